@@ -1,0 +1,565 @@
+//! The known map: what one participant has learnt of the field so far.
+//!
+//! Each robot keeps its own copy (the seed's decentralised maps), so the map
+//! must fit a robot's RAM and update in constant time per report. It covers a
+//! rectangular window of the lattice ([`Bounds`]) over caller-provided
+//! storage: a fixed array of [`Block`]s on the robot, a boxed slice on the
+//! host. No allocation happens here.
+//!
+//! ## The frontier
+//!
+//! A node is a *frontier* node (the seed's "unknown node") when it is not
+//! visited, a visited neighbour has a known arm into it, and fewer than four
+//! of its lattice neighbours are visited. An unvisited node with four visited
+//! neighbours is *deduced*: its arms follow from theirs, so nobody needs to
+//! drive there. Every cell counts its visited neighbours and the known arms
+//! pointing into it, so a visit updates the frontier membership of at most
+//! five cells and never rescans the map.
+//!
+//! ## Memory
+//!
+//! A node costs 4 bytes of [`NodeCell`] plus one frontier bit, kept as one
+//! `u32` per 32-node [`Block`]: 4.125 bytes per node. A 1024-node window
+//! takes 4 224 bytes.
+
+use crate::geometry::{Arms, Heading, Pos};
+use crate::team::RobotId;
+use core::fmt;
+
+/// Nodes per storage [`Block`].
+pub const BLOCK_NODES: usize = 32;
+
+const ARMS_MASK: u8 = 0b0000_1111;
+const VISITED: u8 = 0b0001_0000;
+const NBR_MASK: u8 = 0b0000_0111;
+const INTO_SHIFT: u8 = 3;
+
+/// What the map knows about one node, packed into four bytes.
+#[derive(Clone, Copy, PartialEq, Eq, Default)]
+pub struct NodeCell {
+    /// Bits 0..4: arms (when visited); bit 4: visited.
+    flags: u8,
+    /// Visits by any robot, saturating at 255.
+    visits: u8,
+    /// The robot that first reported the node ([`RobotId::NONE`] if none).
+    first_visitor: u8,
+    /// Bits 0..3: visited lattice neighbours (0..=4); bits 3..6: known arms
+    /// of visited neighbours that point into this node (0..=4).
+    counts: u8,
+}
+
+impl NodeCell {
+    const EMPTY: NodeCell = NodeCell {
+        flags: 0,
+        visits: 0,
+        first_visitor: u8::MAX,
+        counts: 0,
+    };
+
+    /// Whether some robot has reported this node.
+    pub const fn is_visited(self) -> bool {
+        self.flags & VISITED != 0
+    }
+
+    /// The node's arms if it is visited.
+    pub const fn arms(self) -> Option<Arms> {
+        if self.is_visited() {
+            Some(Arms::from_bits(self.flags & ARMS_MASK))
+        } else {
+            None
+        }
+    }
+
+    /// How often robots reported this node (saturates at 255).
+    pub const fn visits(self) -> u8 {
+        self.visits
+    }
+
+    /// The robot that first reported this node.
+    pub const fn first_visitor(self) -> Option<RobotId> {
+        if self.is_visited() {
+            Some(RobotId(self.first_visitor))
+        } else {
+            None
+        }
+    }
+
+    /// Visited lattice neighbours, 0..=4.
+    pub const fn visited_neighbours(self) -> u8 {
+        self.counts & NBR_MASK
+    }
+
+    /// Arms of visited neighbours that point into this node, 0..=4.
+    pub const fn arms_into(self) -> u8 {
+        (self.counts >> INTO_SHIFT) & NBR_MASK
+    }
+
+    /// The seed's frontier rule, from this cell alone.
+    const fn is_frontier_by_rule(self) -> bool {
+        !self.is_visited() && self.arms_into() > 0 && self.visited_neighbours() < 4
+    }
+}
+
+impl fmt::Debug for NodeCell {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("NodeCell")
+            .field("arms", &self.arms())
+            .field("visits", &self.visits)
+            .field("visited_neighbours", &self.visited_neighbours())
+            .field("arms_into", &self.arms_into())
+            .finish()
+    }
+}
+
+/// 32 nodes and their frontier bits: the unit of map storage.
+#[derive(Clone, Copy, Debug)]
+pub struct Block {
+    cells: [NodeCell; BLOCK_NODES],
+    frontier: u32,
+}
+
+impl Block {
+    /// A block with nothing known.
+    pub const EMPTY: Block = Block {
+        cells: [NodeCell::EMPTY; BLOCK_NODES],
+        frontier: 0,
+    };
+}
+
+impl Default for Block {
+    fn default() -> Self {
+        Block::EMPTY
+    }
+}
+
+/// Blocks needed to hold `nodes` nodes.
+pub const fn blocks_for(nodes: usize) -> usize {
+    nodes.div_ceil(BLOCK_NODES)
+}
+
+/// The rectangle of the lattice a map covers: `width` × `height` nodes from
+/// `origin` (its south-west corner).
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Bounds {
+    /// South-west corner.
+    pub origin: Pos,
+    /// Nodes along x.
+    pub width: u16,
+    /// Nodes along y.
+    pub height: u16,
+}
+
+impl Bounds {
+    /// The window of `width` × `height` nodes from `origin`.
+    pub const fn new(origin: Pos, width: u16, height: u16) -> Self {
+        Bounds {
+            origin,
+            width,
+            height,
+        }
+    }
+
+    /// Number of nodes in the window.
+    pub const fn area(self) -> usize {
+        self.width as usize * self.height as usize
+    }
+
+    /// The storage index of `p`, if the window holds it.
+    pub fn index(self, p: Pos) -> Option<usize> {
+        let dx = i32::from(p.x) - i32::from(self.origin.x);
+        let dy = i32::from(p.y) - i32::from(self.origin.y);
+        if dx < 0 || dy < 0 || dx >= i32::from(self.width) || dy >= i32::from(self.height) {
+            return None;
+        }
+        // Both are non-negative and below u16::MAX here.
+        Some(dy as usize * usize::from(self.width) + dx as usize)
+    }
+
+    /// The node at storage index `i` (no range check beyond the arithmetic).
+    pub fn pos(self, i: usize) -> Pos {
+        let w = usize::from(self.width.max(1));
+        let x = i32::from(self.origin.x) + (i % w) as i32;
+        let y = i32::from(self.origin.y) + (i / w) as i32;
+        Pos::new(x as i16, y as i16)
+    }
+
+    /// Whether the window holds `p`.
+    pub fn contains(self, p: Pos) -> bool {
+        self.index(p).is_some()
+    }
+}
+
+/// Two reports disagree about a node's arms.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Conflict {
+    /// The node.
+    pub pos: Pos,
+    /// The arms the map already implies, on the headings in `determined`.
+    pub expected: Arms,
+    /// The headings the map already determines (all four for a visited
+    /// node; those towards visited neighbours for a new one).
+    pub determined: Arms,
+    /// The arms of the rejected report.
+    pub reported: Arms,
+}
+
+impl fmt::Display for Conflict {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "node {} reported with arms {} but the map implies {} on {}",
+            self.pos, self.reported, self.expected, self.determined
+        )
+    }
+}
+
+/// Why the map refused an operation. A refused operation changes nothing.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum MapError {
+    /// The node lies outside the map's [`Bounds`].
+    OutOfBounds(Pos),
+    /// The report contradicts what the map knows.
+    Conflict(Conflict),
+    /// The storage holds fewer nodes than the bounds cover.
+    Capacity {
+        /// Nodes the bounds cover.
+        needed: usize,
+        /// Nodes the storage holds.
+        available: usize,
+    },
+}
+
+impl fmt::Display for MapError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            MapError::OutOfBounds(p) => write!(f, "node {p} lies outside the map window"),
+            MapError::Conflict(c) => write!(f, "conflict: {c}"),
+            MapError::Capacity { needed, available } => {
+                write!(
+                    f,
+                    "map storage holds {available} nodes, bounds need {needed}"
+                )
+            }
+        }
+    }
+}
+
+/// What a successful [`KnownMap::visit`] changed.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub struct Visit {
+    /// The node was not visited before.
+    pub first: bool,
+    /// The node was a frontier node before.
+    pub was_frontier: bool,
+    /// An arm of the node leads out of the map window: the map cannot hold
+    /// the node behind it, so exploration there is impossible.
+    pub arm_leaves_bounds: bool,
+}
+
+/// The outcome of [`KnownMap::merge_map`].
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub struct MergeSummary {
+    /// Nodes that were new to this map.
+    pub added: u32,
+    /// Nodes whose reports conflicted and were not taken.
+    pub conflicts: u32,
+    /// The first conflict, for the log.
+    pub first_conflict: Option<Conflict>,
+    /// Nodes of the other map outside this map's window.
+    pub out_of_bounds: u32,
+}
+
+/// One participant's knowledge of the field; see the module docs.
+///
+/// `S` is the storage, any owned slice of [`Block`]s: `[Block; N]` on the
+/// robot, `Box<[Block]>` or `Vec<Block>` on the host.
+#[derive(Clone)]
+pub struct KnownMap<S> {
+    blocks: S,
+    bounds: Bounds,
+    visited: u32,
+    frontier: u32,
+}
+
+impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
+    /// An empty map over `storage`, covering `bounds`. Clears the storage.
+    pub fn new(mut storage: S, bounds: Bounds) -> Result<Self, MapError> {
+        let available = storage.as_ref().len() * BLOCK_NODES;
+        if available < bounds.area() {
+            return Err(MapError::Capacity {
+                needed: bounds.area(),
+                available,
+            });
+        }
+        storage.as_mut().fill(Block::EMPTY);
+        Ok(KnownMap {
+            blocks: storage,
+            bounds,
+            visited: 0,
+            frontier: 0,
+        })
+    }
+
+    /// Forgets everything, keeping the window.
+    pub fn clear(&mut self) {
+        self.blocks.as_mut().fill(Block::EMPTY);
+        self.visited = 0;
+        self.frontier = 0;
+    }
+
+    /// The window this map covers.
+    pub fn bounds(&self) -> Bounds {
+        self.bounds
+    }
+
+    /// Number of visited nodes.
+    pub fn visited_len(&self) -> usize {
+        self.visited as usize
+    }
+
+    /// Number of frontier nodes.
+    pub fn frontier_len(&self) -> usize {
+        self.frontier as usize
+    }
+
+    /// Everything known about `p` (an empty cell outside the window).
+    pub fn cell(&self, p: Pos) -> NodeCell {
+        self.bounds
+            .index(p)
+            .and_then(|i| self.cell_at(i))
+            .unwrap_or(NodeCell::EMPTY)
+    }
+
+    /// The cell at storage index `i`.
+    pub fn cell_at(&self, i: usize) -> Option<NodeCell> {
+        let block = self.blocks.as_ref().get(i / BLOCK_NODES)?;
+        block.cells.get(i % BLOCK_NODES).copied()
+    }
+
+    /// Whether `p` has been visited.
+    pub fn is_visited(&self, p: Pos) -> bool {
+        self.cell(p).is_visited()
+    }
+
+    /// Whether `p` is a frontier node.
+    pub fn is_frontier(&self, p: Pos) -> bool {
+        self.bounds.index(p).is_some_and(|i| self.is_frontier_at(i))
+    }
+
+    /// Whether storage index `i` is a frontier node: one bit test.
+    pub fn is_frontier_at(&self, i: usize) -> bool {
+        self.blocks
+            .as_ref()
+            .get(i / BLOCK_NODES)
+            .is_some_and(|b| b.frontier & (1 << (i % BLOCK_NODES)) != 0)
+    }
+
+    /// The arms of `p` if they are known: visited, or deduced from four
+    /// visited neighbours.
+    pub fn known_arms(&self, p: Pos) -> Option<Arms> {
+        let cell = self.cell(p);
+        if let Some(a) = cell.arms() {
+            return Some(a);
+        }
+        if cell.visited_neighbours() == 4 {
+            return Some(self.implied_arms(p).0);
+        }
+        None
+    }
+
+    /// Whether everything reachable is known: no frontier left.
+    pub fn is_complete(&self) -> bool {
+        self.frontier == 0
+    }
+
+    /// Records that `robot` found node `p` with `arms` (its own observation
+    /// or another robot's relayed report).
+    ///
+    /// A report that contradicts the map (a different shape for a visited
+    /// node, or an arm missing towards a visited neighbour that has one) is
+    /// refused with [`MapError::Conflict`] and changes nothing.
+    pub fn visit(&mut self, p: Pos, arms: Arms, robot: RobotId) -> Result<Visit, MapError> {
+        self.record(p, arms, robot, 1)
+    }
+
+    fn record(
+        &mut self,
+        p: Pos,
+        arms: Arms,
+        robot: RobotId,
+        visits: u8,
+    ) -> Result<Visit, MapError> {
+        let i = self.bounds.index(p).ok_or(MapError::OutOfBounds(p))?;
+        let cell = self.cell_at(i).ok_or(MapError::OutOfBounds(p))?;
+        if let Some(known) = cell.arms() {
+            if known != arms {
+                return Err(MapError::Conflict(Conflict {
+                    pos: p,
+                    expected: known,
+                    determined: Arms::CROSS,
+                    reported: arms,
+                }));
+            }
+            self.update_cell(i, |c| c.visits = c.visits.saturating_add(visits));
+            return Ok(Visit::default());
+        }
+        let (expected, determined) = self.implied_arms(p);
+        if arms.bits() & determined.bits() != expected.bits() {
+            return Err(MapError::Conflict(Conflict {
+                pos: p,
+                expected,
+                determined,
+                reported: arms,
+            }));
+        }
+        let was_frontier = self.is_frontier_at(i);
+        self.update_cell(i, |c| {
+            c.flags = VISITED | arms.bits();
+            c.visits = visits;
+            c.first_visitor = robot.0;
+        });
+        self.visited += 1;
+        self.refresh_frontier(i);
+        let mut arm_leaves_bounds = false;
+        for h in Heading::ALL {
+            let Some(j) = p.step(h).and_then(|q| self.bounds.index(q)) else {
+                arm_leaves_bounds |= arms.has(h);
+                continue;
+            };
+            let into = u8::from(arms.has(h)) << INTO_SHIFT;
+            self.update_cell(j, |c| c.counts += 1 + into);
+            self.refresh_frontier(j);
+        }
+        Ok(Visit {
+            first: true,
+            was_frontier,
+            arm_leaves_bounds,
+        })
+    }
+
+    /// Takes every visited node of `other` into this map (a robot that was
+    /// offline catches up). Visit counts become the larger of the two.
+    /// Conflicting nodes are skipped and counted, never overwritten.
+    pub fn merge_map<T: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        other: &KnownMap<T>,
+    ) -> MergeSummary {
+        let mut summary = MergeSummary::default();
+        for (p, cell) in other.visited() {
+            let Some(arms) = cell.arms() else { continue };
+            let mine = self.cell(p);
+            let result = if mine.is_visited() {
+                let extra = cell.visits.saturating_sub(mine.visits);
+                self.record(p, arms, RobotId(cell.first_visitor), extra)
+            } else {
+                self.record(p, arms, RobotId(cell.first_visitor), cell.visits.max(1))
+            };
+            match result {
+                Ok(v) if v.first => summary.added += 1,
+                Ok(_) => {}
+                Err(MapError::Conflict(c)) => {
+                    summary.conflicts += 1;
+                    summary.first_conflict.get_or_insert(c);
+                }
+                Err(_) => summary.out_of_bounds += 1,
+            }
+        }
+        summary
+    }
+
+    /// The frontier nodes, in storage order (row by row from the south-west).
+    /// Skips 32 nodes at a time where a block holds no frontier.
+    pub fn frontier(&self) -> impl Iterator<Item = Pos> + '_ {
+        let bounds = self.bounds;
+        self.blocks
+            .as_ref()
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| b.frontier != 0)
+            .flat_map(move |(bi, b)| {
+                let mut bits = b.frontier;
+                core::iter::from_fn(move || {
+                    if bits == 0 {
+                        return None;
+                    }
+                    let k = bits.trailing_zeros() as usize;
+                    bits &= bits - 1;
+                    Some(bounds.pos(bi * BLOCK_NODES + k))
+                })
+            })
+    }
+
+    /// The visited nodes with their cells, in storage order.
+    pub fn visited(&self) -> impl Iterator<Item = (Pos, NodeCell)> + '_ {
+        let bounds = self.bounds;
+        let area = bounds.area();
+        self.blocks
+            .as_ref()
+            .iter()
+            .flat_map(|b| b.cells.iter())
+            .take(area)
+            .enumerate()
+            .filter(|(_, c)| c.is_visited())
+            .map(move |(i, c)| (bounds.pos(i), *c))
+    }
+
+    /// The arms of `p` implied by its visited neighbours, and on which
+    /// headings they are implied.
+    fn implied_arms(&self, p: Pos) -> (Arms, Arms) {
+        let mut expected = Arms::NONE;
+        let mut determined = Arms::NONE;
+        for h in Heading::ALL {
+            let Some(q) = p.step(h) else { continue };
+            if let Some(a) = self.cell(q).arms() {
+                determined = determined.with(h);
+                if a.has(h.opposite()) {
+                    expected = expected.with(h);
+                }
+            }
+        }
+        (expected, determined)
+    }
+
+    fn update_cell(&mut self, i: usize, f: impl FnOnce(&mut NodeCell)) {
+        if let Some(c) = self
+            .blocks
+            .as_mut()
+            .get_mut(i / BLOCK_NODES)
+            .and_then(|b| b.cells.get_mut(i % BLOCK_NODES))
+        {
+            f(c);
+        }
+    }
+
+    /// Brings the frontier bit of index `i` in line with the rule: O(1).
+    fn refresh_frontier(&mut self, i: usize) {
+        let Some(cell) = self.cell_at(i) else { return };
+        let should = cell.is_frontier_by_rule();
+        let Some(block) = self.blocks.as_mut().get_mut(i / BLOCK_NODES) else {
+            return;
+        };
+        let bit = 1u32 << (i % BLOCK_NODES);
+        let is = block.frontier & bit != 0;
+        if should && !is {
+            block.frontier |= bit;
+            self.frontier += 1;
+        } else if !should && is {
+            block.frontier &= !bit;
+            self.frontier -= 1;
+        }
+    }
+}
+
+/// A map with its storage inline: `N` blocks of 32 nodes. The firmware's
+/// 1024-node map is `ArrayMap<32>`.
+pub type ArrayMap<const N: usize> = KnownMap<[Block; N]>;
+
+impl<const N: usize> KnownMap<[Block; N]> {
+    /// An empty inline map covering `bounds`.
+    pub fn with_bounds(bounds: Bounds) -> Result<Self, MapError> {
+        KnownMap::new([Block::EMPTY; N], bounds)
+    }
+}
+
+#[cfg(test)]
+mod tests;

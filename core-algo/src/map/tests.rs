@@ -1,0 +1,249 @@
+use super::*;
+use proptest::prelude::*;
+
+use std::vec::Vec;
+
+fn small_map() -> ArrayMap<4> {
+    // 10 x 10 window from (-5, -5): 100 nodes in 4 blocks.
+    ArrayMap::<4>::with_bounds(Bounds::new(Pos::new(-5, -5), 10, 10)).unwrap()
+}
+
+const N: Heading = Heading::North;
+const E: Heading = Heading::East;
+const S: Heading = Heading::South;
+const W: Heading = Heading::West;
+
+fn arms(hs: &[Heading]) -> Arms {
+    hs.iter().fold(Arms::NONE, |a, h| a.with(*h))
+}
+
+#[test]
+fn a_visit_creates_frontier_along_its_arms_only() {
+    let mut m = small_map();
+    let v = m.visit(Pos::new(0, 0), arms(&[N, E]), RobotId(0)).unwrap();
+    assert!(v.first && !v.was_frontier && !v.arm_leaves_bounds);
+    let f: Vec<Pos> = m.frontier().collect();
+    assert_eq!(f, [Pos::new(1, 0), Pos::new(0, 1)]);
+    assert_eq!(m.frontier_len(), 2);
+    assert!(
+        !m.is_frontier(Pos::new(-1, 0)),
+        "no arm west, so no frontier there"
+    );
+    let v = m.visit(Pos::new(1, 0), arms(&[W, N]), RobotId(1)).unwrap();
+    assert!(v.was_frontier);
+    assert_eq!(m.cell(Pos::new(1, 0)).first_visitor(), Some(RobotId(1)));
+    assert_eq!(
+        m.frontier().collect::<Vec<_>>(),
+        [Pos::new(0, 1), Pos::new(1, 1)]
+    );
+}
+
+#[test]
+fn node_with_four_visited_neighbours_is_deduced_not_frontier() {
+    let mut m = small_map();
+    // A ring of four nodes around (0, 0), each pointing into it.
+    m.visit(Pos::new(0, 1), arms(&[S]), RobotId(0)).unwrap();
+    m.visit(Pos::new(1, 0), arms(&[W]), RobotId(0)).unwrap();
+    m.visit(Pos::new(0, -1), arms(&[N]), RobotId(0)).unwrap();
+    assert!(m.is_frontier(Pos::new(0, 0)));
+    assert_eq!(m.known_arms(Pos::new(0, 0)), None);
+    m.visit(Pos::new(-1, 0), Arms::NONE, RobotId(0)).unwrap();
+    assert!(!m.is_frontier(Pos::new(0, 0)));
+    assert_eq!(m.known_arms(Pos::new(0, 0)), Some(arms(&[N, E, S])));
+    assert!(m.is_complete());
+}
+
+#[test]
+fn conflicting_reports_are_refused_and_change_nothing() {
+    let mut m = small_map();
+    m.visit(Pos::new(0, 0), arms(&[N, E]), RobotId(0)).unwrap();
+    let before = m.clone();
+    let err = m.visit(Pos::new(0, 0), arms(&[N]), RobotId(1)).unwrap_err();
+    assert_eq!(
+        err,
+        MapError::Conflict(Conflict {
+            pos: Pos::new(0, 0),
+            expected: arms(&[N, E]),
+            determined: Arms::CROSS,
+            reported: arms(&[N]),
+        })
+    );
+    // (1, 0) must have an arm west, because (0, 0) has one east.
+    let err = m.visit(Pos::new(1, 0), arms(&[N]), RobotId(1)).unwrap_err();
+    assert!(
+        matches!(err, MapError::Conflict(c) if c.determined == arms(&[W]) && c.expected == arms(&[W]))
+    );
+    // (-1, 0) must not have an arm east.
+    assert!(m.visit(Pos::new(-1, 0), arms(&[E]), RobotId(1)).is_err());
+    assert_eq!(
+        m.frontier().collect::<Vec<_>>(),
+        before.frontier().collect::<Vec<_>>()
+    );
+    assert_eq!(m.cell(Pos::new(0, 0)).visits(), 1);
+    // The same report again is a revisit.
+    let v = m.visit(Pos::new(0, 0), arms(&[N, E]), RobotId(1)).unwrap();
+    assert!(!v.first);
+    assert_eq!(m.cell(Pos::new(0, 0)).visits(), 2);
+    assert_eq!(m.cell(Pos::new(0, 0)).first_visitor(), Some(RobotId(0)));
+}
+
+#[test]
+fn window_edges_are_reported() {
+    let mut m = small_map();
+    assert_eq!(
+        m.visit(Pos::new(5, 0), Arms::CROSS, RobotId(0)),
+        Err(MapError::OutOfBounds(Pos::new(5, 0)))
+    );
+    let v = m.visit(Pos::new(4, 4), Arms::CROSS, RobotId(0)).unwrap();
+    assert!(v.arm_leaves_bounds);
+    assert_eq!(m.frontier_len(), 2);
+    assert!(matches!(
+        ArrayMap::<1>::with_bounds(Bounds::new(Pos::new(0, 0), 8, 8)),
+        Err(MapError::Capacity {
+            needed: 64,
+            available: 32
+        })
+    ));
+}
+
+#[test]
+fn merge_takes_new_nodes_and_counts_conflicts() {
+    let mut a = small_map();
+    let mut b = small_map();
+    a.visit(Pos::new(0, 0), arms(&[E]), RobotId(0)).unwrap();
+    b.visit(Pos::new(0, 0), arms(&[N]), RobotId(1)).unwrap();
+    b.visit(Pos::new(3, 3), arms(&[S]), RobotId(1)).unwrap();
+    b.visit(Pos::new(3, 3), arms(&[S]), RobotId(1)).unwrap();
+    let s = a.merge_map(&b);
+    assert_eq!(s.added, 1);
+    assert_eq!(s.conflicts, 1);
+    assert_eq!(s.first_conflict.map(|c| c.pos), Some(Pos::new(0, 0)));
+    assert_eq!(a.cell(Pos::new(3, 3)).visits(), 2);
+    assert_eq!(a.known_arms(Pos::new(0, 0)), Some(arms(&[E])));
+    // Merging again adds nothing and keeps the larger count.
+    let s = a.merge_map(&b);
+    assert_eq!((s.added, a.cell(Pos::new(3, 3)).visits()), (0, 2));
+}
+
+#[test]
+fn memory_per_node_is_within_budget() {
+    assert_eq!(core::mem::size_of::<NodeCell>(), 4);
+    assert_eq!(core::mem::size_of::<Block>(), 4 * BLOCK_NODES + 4);
+    // The firmware's 1024-node map.
+    assert!(core::mem::size_of::<ArrayMap<32>>() <= 1024 * 8);
+}
+
+/// A random true field on a 6 x 6 lattice: arms are consistent by
+/// construction (each undirected edge sets both ends).
+fn truth() -> impl Strategy<Value = Vec<Arms>> {
+    proptest::collection::vec(any::<bool>(), 60).prop_map(|edges| {
+        let mut a = std::vec![Arms::NONE; 36];
+        let mut k = 0;
+        for y in 0..6 {
+            for x in 0..6 {
+                if x < 5 {
+                    if edges[k] {
+                        a[y * 6 + x] = a[y * 6 + x].with(E);
+                        a[y * 6 + x + 1] = a[y * 6 + x + 1].with(W);
+                    }
+                    k += 1;
+                }
+                if y < 5 {
+                    if edges[k] {
+                        a[y * 6 + x] = a[y * 6 + x].with(N);
+                        a[(y + 1) * 6 + x] = a[(y + 1) * 6 + x].with(S);
+                    }
+                    k += 1;
+                }
+            }
+        }
+        a
+    })
+}
+
+#[derive(Clone, Debug)]
+enum Op {
+    Visit(usize, u8),
+    /// A report with made-up arms: kept if it fits what is known.
+    Lie(usize, u8),
+    Merge(Vec<usize>),
+}
+
+fn ops() -> impl Strategy<Value = Vec<Op>> {
+    proptest::collection::vec(
+        prop_oneof![
+            6 => (0..36usize, 0..6u8).prop_map(|(k, r)| Op::Visit(k, r)),
+            1 => (0..36usize, 0..16u8).prop_map(|(k, b)| Op::Lie(k, b)),
+            1 => proptest::collection::vec(0..36usize, 0..12).prop_map(Op::Merge),
+        ],
+        0..80,
+    )
+}
+
+fn pos_of(k: usize) -> Pos {
+    Pos::new((k % 6) as i16 - 2, (k / 6) as i16 - 3)
+}
+
+/// The seed's frontier, recomputed from the visited cells alone.
+fn frontier_from_scratch(m: &ArrayMap<2>) -> Vec<Pos> {
+    let b = m.bounds();
+    (0..b.area())
+        .map(|i| b.pos(i))
+        .filter(|&p| {
+            if m.is_visited(p) {
+                return false;
+            }
+            let mut visited = 0;
+            let mut into = false;
+            for h in Heading::ALL {
+                if let Some(a) = p.step(h).and_then(|q| m.cell(q).arms()) {
+                    visited += 1;
+                    into |= a.has(h.opposite());
+                }
+            }
+            into && visited < 4
+        })
+        .collect()
+}
+
+proptest! {
+    #[test]
+    fn frontier_always_equals_recomputation(field in truth(), ops in ops()) {
+        // An 8 x 8 window (two blocks) around the 6 x 6 field, so that the
+        // field's border nodes have neighbours inside the window.
+        let bounds = Bounds::new(Pos::new(-3, -4), 8, 8);
+        let mut m = ArrayMap::<2>::with_bounds(bounds).unwrap();
+        for op in ops {
+            match op {
+                Op::Visit(k, r) => {
+                    let _ = m.visit(pos_of(k), field[k], RobotId(r));
+                }
+                Op::Lie(k, bits) => {
+                    let _ = m.visit(pos_of(k), Arms::from_bits(bits), RobotId(9));
+                }
+                Op::Merge(ks) => {
+                    let mut other = ArrayMap::<2>::with_bounds(bounds).unwrap();
+                    for k in ks {
+                        let _ = other.visit(pos_of(k), field[k], RobotId(7));
+                    }
+                    let before = m.visited_len();
+                    let s = m.merge_map(&other);
+                    prop_assert_eq!(m.visited_len(), before + s.added as usize);
+                }
+            }
+            let expected = frontier_from_scratch(&m);
+            prop_assert_eq!(m.frontier().collect::<Vec<_>>(), expected.clone());
+            prop_assert_eq!(m.frontier_len(), expected.len());
+            prop_assert_eq!(m.visited_len(), m.visited().count());
+            // The map never holds two visited neighbours that disagree.
+            for (p, c) in m.visited() {
+                let a = c.arms().unwrap();
+                for h in Heading::ALL {
+                    if let Some(b) = p.step(h).and_then(|q| m.cell(q).arms()) {
+                        prop_assert_eq!(a.has(h), b.has(h.opposite()));
+                    }
+                }
+            }
+        }
+    }
+}
