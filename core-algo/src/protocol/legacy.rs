@@ -1,0 +1,1 @@
+//! The 2010 protocol (in progress).

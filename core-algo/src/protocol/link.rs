@@ -1,0 +1,1 @@
+//! The reliable link (in progress).
