@@ -9,6 +9,7 @@
 //! * [`stream`]: the [`StreamDecoder`] that cuts a byte stream into frames;
 //! * [`link`]: the reliable [`Link`] (acknowledgements, retransmission,
 //!   in-order delivery, heartbeat, link loss and resynchronisation);
+//! * [`resync`]: streaming the map a reconnected robot missed;
 //! * [`legacy`]: the 32-byte protocol of the 2010 firmware, to drive an
 //!   original e-puck.
 //!
@@ -19,12 +20,16 @@ pub mod frame;
 pub mod legacy;
 pub mod link;
 pub mod message;
+pub mod resync;
 pub mod stream;
 
 pub use frame::{Body, Frame, FrameError, Header, MAX_FRAME_LEN, PHONE};
 
+pub use link::{Event, Link, LinkConfig, SendError};
 pub use message::{Broadcast, Message, Pose};
 pub use stream::{Stats, StreamDecoder};
 
+#[cfg(test)]
+mod link_tests;
 #[cfg(test)]
 mod tests;
