@@ -20,4 +20,5 @@ extern crate std;
 
 pub mod geometry;
 pub mod map;
+pub mod protocol;
 pub mod team;

@@ -1,0 +1,414 @@
+//! The reliable link: one endpoint of a point-to-point connection.
+//!
+//! A pure state machine in the manner of smoltcp's sockets: the caller feeds
+//! received bytes with [`Link::on_bytes`], asks for bytes to send with
+//! [`Link::poll_transmit`], drives the timers with [`Link::tick`] and takes
+//! what happened from [`Link::poll_event`]. Time is passed in as `u32`
+//! milliseconds and only ever compared by wrapping difference, so the clock
+//! may start anywhere and wrap. The same code runs in the firmware (UART
+//! interrupt and a periodic task) and on the phone side (one per robot).
+//!
+//! What the link guarantees for messages sent with [`Link::send`]:
+//! delivered once, in order, as long as the peer's session lasts. How:
+//!
+//! * **Sequence numbers and cumulative acknowledgements.** Every data frame
+//!   has a 16-bit sequence number; every frame carries the number of the
+//!   next data frame its sender expects. Go-back-N: the receiver accepts
+//!   only the next frame in order and drops the rest, which suppresses
+//!   duplicates and reordering with no buffer at the receiver.
+//! * **Retransmission.** When the oldest unacknowledged frame is older than
+//!   the timeout, everything unacknowledged is sent again. The timeout
+//!   doubles with each consecutive failure, up to 16×, so a dead link is not
+//!   flooded. After `max_retries` failures the link reports
+//!   [`Event::LinkLost`], but keeps the queue and keeps trying: when the peer
+//!   answers again the queue drains and [`Event::LinkUp`] is reported.
+//! * **Heartbeat.** An endpoint that sent nothing for `heartbeat_ms` sends
+//!   an empty [`Body::Ack`]; one that heard nothing for `link_timeout_ms`
+//!   reports [`Event::LinkLost`].
+//! * **Sessions.** Each endpoint picks a non-zero session number at start
+//!   (a boot counter or a random byte). A [`Body::Sync`] tells the peer the
+//!   session and first sequence number; the peer echoes the session in
+//!   every header (`peer_session`), and data is sent only while it does.
+//!   When a robot reboots, its new session makes the phone report
+//!   [`Event::PeerRestarted`] instead of mistaking the new sequence numbers
+//!   for duplicates; the robot then asks for the map it missed with
+//!   [`Message::ResyncRequest`] (see [`super::resync`]).
+//!
+//! Memory: [`WINDOW`] queued messages, [`EVENTS`] pending events, one
+//! best-effort message and one stream decoder, about 1.3 KiB in all.
+
+use heapless::Deque;
+
+use super::frame::{Body, Frame, Header};
+use super::message::Message;
+use super::stream::{Stats, StreamDecoder};
+use crate::team::RobotId;
+
+/// Reliable messages queued or in flight per link.
+///
+/// Commands are request/response, so one or two are in flight in practice;
+/// eight absorb a resync burst of node hits without making the phone wait.
+pub const WINDOW: usize = 8;
+
+/// Events buffered until the application takes them. A data frame that
+/// finds this queue full is not acknowledged and so comes again later.
+pub const EVENTS: usize = 8;
+
+/// Timing of a link, in milliseconds.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub struct LinkConfig {
+    /// Retransmission timeout for the first attempt. A 20-byte frame takes
+    /// 1.7 ms at 115 200 baud; Bluetooth SPP adds tens of ms of latency.
+    pub rto_ms: u32,
+    /// Consecutive timeouts of one frame before [`Event::LinkLost`].
+    pub max_retries: u8,
+    /// Idle time after which a heartbeat is sent.
+    pub heartbeat_ms: u32,
+    /// Silence after which the link is reported lost.
+    pub link_timeout_ms: u32,
+}
+
+impl Default for LinkConfig {
+    /// 200 ms timeout, 6 retries (about 6 s with the back-off), a heartbeat
+    /// every 500 ms and loss after 2 s of silence (four missed heartbeats).
+    fn default() -> Self {
+        LinkConfig {
+            rto_ms: 200,
+            max_retries: 6,
+            heartbeat_ms: 500,
+            link_timeout_ms: 2000,
+        }
+    }
+}
+
+/// Something the application must know about.
+#[derive(Clone, PartialEq, Eq, Debug)]
+pub enum Event {
+    /// A message from the peer.
+    Received {
+        /// Who sent it (the frame's sender).
+        from: RobotId,
+        /// The sequence number of a reliable message (answer a command with
+        /// `Message::Ack { command: seq }`); `None` for a best-effort one.
+        seq: Option<u16>,
+        /// The message.
+        message: Message,
+    },
+    /// The peer is heard again (also at the first frame ever).
+    LinkUp,
+    /// The peer fell silent or stopped acknowledging.
+    LinkLost,
+    /// The peer started a new session (it rebooted or reset its link): it
+    /// has forgotten everything, so its state must be resent.
+    PeerRestarted,
+}
+
+/// Why a message was not queued.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug)]
+pub enum SendError {
+    /// [`WINDOW`] reliable messages are already waiting; try again after
+    /// the peer acknowledged some.
+    QueueFull,
+}
+
+/// A reliable message waiting for its acknowledgement.
+#[derive(Clone, Debug)]
+struct Pending {
+    seq: u16,
+    message: Message,
+    /// When it was last sent; `None`: (re)send it at the next chance.
+    sent_at: Option<u32>,
+    /// Whether it was sent before (for the retransmission counter).
+    sent_once: bool,
+}
+
+/// Milliseconds from `since` to `now`, correct across a wrap of the clock.
+const fn elapsed(now: u32, since: u32) -> u32 {
+    now.wrapping_sub(since)
+}
+
+/// One endpoint of a reliable link. See the module documentation.
+#[derive(Clone, Debug)]
+pub struct Link {
+    config: LinkConfig,
+    local: RobotId,
+    session: u8,
+    // Sending side.
+    next_seq: u16,
+    queue: Deque<Pending, WINDOW>,
+    retries: u8,
+    datagram: Option<Message>,
+    peer_synced: bool,
+    sync_sent_at: Option<u32>,
+    // Receiving side.
+    peer: Option<RobotId>,
+    peer_session: u8,
+    rx_next: u16,
+    ack_due: bool,
+    decoder: StreamDecoder,
+    events: Deque<Event, EVENTS>,
+    // Liveness.
+    up: bool,
+    last_rx: Option<u32>,
+    last_tx: Option<u32>,
+    retransmissions: u32,
+}
+
+impl Link {
+    /// A new endpoint with address `local` and session `session` (0 is
+    /// reserved and replaced by 1). It starts by sending a Sync.
+    pub fn new(config: LinkConfig, local: RobotId, session: u8) -> Self {
+        Link {
+            config,
+            local,
+            session: session.max(1),
+            next_seq: 0,
+            queue: Deque::new(),
+            retries: 0,
+            datagram: None,
+            peer_synced: false,
+            sync_sent_at: None,
+            peer: None,
+            peer_session: 0,
+            rx_next: 0,
+            ack_due: false,
+            decoder: StreamDecoder::new(),
+            events: Deque::new(),
+            up: false,
+            last_rx: None,
+            last_tx: None,
+            retransmissions: 0,
+        }
+    }
+
+    /// Queues a message for reliable, in-order delivery and returns its
+    /// sequence number (the peer answers commands with it).
+    pub fn send(&mut self, message: Message) -> Result<u16, SendError> {
+        let seq = self.next_seq;
+        self.queue
+            .push_back(Pending {
+                seq,
+                message,
+                sent_at: None,
+                sent_once: false,
+            })
+            .map_err(|_| SendError::QueueFull)?;
+        self.next_seq = seq.wrapping_add(1);
+        Ok(seq)
+    }
+
+    /// Sends a message best-effort at the next chance. Only the newest one
+    /// is kept: a status replaces an older status that was not yet sent.
+    pub fn send_datagram(&mut self, message: Message) {
+        self.datagram = Some(message);
+    }
+
+    /// Feeds bytes received from the peer, in any chunking.
+    pub fn on_bytes(&mut self, now: u32, bytes: &[u8]) {
+        for &b in bytes {
+            if let Some(Ok(frame)) = self.decoder.push_byte(b) {
+                self.on_frame(now, frame);
+            }
+        }
+    }
+
+    /// Handles one decoded frame (for transports that frame by themselves).
+    pub fn on_frame(&mut self, now: u32, frame: Frame) {
+        let h = frame.header;
+        if h.session == 0 {
+            return;
+        }
+        self.last_rx = Some(now);
+        self.peer = Some(h.sender);
+        if !self.up {
+            self.up = true;
+            self.push_event(Event::LinkUp);
+        }
+        if h.peer_session == self.session {
+            self.peer_synced = true;
+            self.on_ack(h.ack);
+        } else {
+            self.peer_synced = false;
+        }
+        match frame.body {
+            Body::Sync => {
+                if h.session != self.peer_session {
+                    if self.peer_session != 0 {
+                        self.push_event(Event::PeerRestarted);
+                    }
+                    self.peer_session = h.session;
+                    self.rx_next = h.seq;
+                }
+                self.ack_due = true;
+            }
+            Body::Data(message) => {
+                if h.session == self.peer_session && h.seq == self.rx_next && !self.events.is_full()
+                {
+                    self.push_event(Event::Received {
+                        from: h.sender,
+                        seq: Some(h.seq),
+                        message,
+                    });
+                    self.rx_next = self.rx_next.wrapping_add(1);
+                }
+                self.ack_due = true;
+            }
+            Body::Datagram(message) => self.push_event(Event::Received {
+                from: h.sender,
+                seq: None,
+                message,
+            }),
+            Body::Ack => {}
+        }
+    }
+
+    fn on_ack(&mut self, ack: u16) {
+        let Some(front) = self.queue.front() else {
+            return;
+        };
+        let acked = ack.wrapping_sub(front.seq);
+        let in_flight = self.next_seq.wrapping_sub(front.seq);
+        if acked == 0 || acked > in_flight {
+            return;
+        }
+        for _ in 0..acked {
+            self.queue.pop_front();
+        }
+        self.retries = 0;
+    }
+
+    fn push_event(&mut self, e: Event) {
+        // Full: the event is dropped. Data frames check for room first and
+        // so are retransmitted instead; a dropped datagram is allowed.
+        let _ = self.events.push_back(e);
+    }
+
+    /// The current retransmission timeout, doubled per failure up to 16×.
+    fn rto(&self) -> u32 {
+        self.config.rto_ms.saturating_mul(1 << self.retries.min(4))
+    }
+
+    /// Runs the timers: link-loss detection and the retransmission timer.
+    /// Call it every few milliseconds, and before [`Link::poll_transmit`].
+    pub fn tick(&mut self, now: u32) {
+        if self.up
+            && self
+                .last_rx
+                .is_none_or(|t| elapsed(now, t) >= self.config.link_timeout_ms)
+        {
+            self.lose();
+        }
+        if !self.peer_synced {
+            return;
+        }
+        let Some(sent) = self.queue.front().and_then(|p| p.sent_at) else {
+            return;
+        };
+        if elapsed(now, sent) < self.rto() {
+            return;
+        }
+        for p in self.queue.iter_mut() {
+            p.sent_at = None;
+        }
+        self.retries = self.retries.saturating_add(1);
+        if self.retries > self.config.max_retries {
+            self.lose();
+        }
+    }
+
+    fn lose(&mut self) {
+        if self.up {
+            self.up = false;
+            self.push_event(Event::LinkLost);
+        }
+    }
+
+    /// Writes the next frame to send into `out` (at least
+    /// [`super::MAX_FRAME_LEN`] bytes) and returns its length, or `None`
+    /// when there is nothing to send now. Call it until it returns `None`.
+    pub fn poll_transmit(&mut self, now: u32, out: &mut [u8]) -> Option<usize> {
+        let mut header = Header {
+            sender: self.local,
+            session: self.session,
+            peer_session: self.peer_session,
+            seq: self.next_seq,
+            ack: self.rx_next,
+        };
+        let body = if !self.peer_synced
+            && self
+                .sync_sent_at
+                .is_none_or(|t| elapsed(now, t) >= self.rto())
+        {
+            self.sync_sent_at = Some(now);
+            header.seq = self.queue.front().map_or(self.next_seq, |p| p.seq);
+            Body::Sync
+        } else if let Some(p) = self
+            .queue
+            .iter_mut()
+            .find(|p| p.sent_at.is_none())
+            .filter(|_| self.peer_synced)
+        {
+            if p.sent_once {
+                self.retransmissions = self.retransmissions.saturating_add(1);
+            }
+            p.sent_once = true;
+            p.sent_at = Some(now);
+            header.seq = p.seq;
+            Body::Data(p.message.clone())
+        } else if let Some(m) = self.datagram.take() {
+            Body::Datagram(m)
+        } else if self.ack_due
+            || self
+                .last_tx
+                .is_none_or(|t| elapsed(now, t) >= self.config.heartbeat_ms)
+        {
+            Body::Ack
+        } else {
+            return None;
+        };
+        let n = Frame { header, body }.encode(out).ok()?;
+        self.ack_due = false;
+        self.last_tx = Some(now);
+        Some(n)
+    }
+
+    /// The next event, oldest first.
+    pub fn poll_event(&mut self) -> Option<Event> {
+        self.events.pop_front()
+    }
+
+    /// Whether the peer is heard and acknowledges.
+    pub fn is_up(&self) -> bool {
+        self.up
+    }
+
+    /// Whether [`Link::send`] would accept a message.
+    pub fn can_send(&self) -> bool {
+        !self.queue.is_full()
+    }
+
+    /// Reliable messages not yet acknowledged.
+    pub fn unacked(&self) -> usize {
+        self.queue.len()
+    }
+
+    /// The peer's address, once heard.
+    pub fn peer(&self) -> Option<RobotId> {
+        self.peer
+    }
+
+    /// This endpoint's session.
+    pub fn session(&self) -> u8 {
+        self.session
+    }
+
+    /// Frames sent again so far.
+    pub fn retransmissions(&self) -> u32 {
+        self.retransmissions
+    }
+
+    /// The stream decoder's counters (rejected frames and why).
+    pub fn rx_stats(&self) -> Stats {
+        self.decoder.stats()
+    }
+}
