@@ -20,4 +20,6 @@ extern crate std;
 
 pub mod geometry;
 pub mod map;
+pub mod path;
 pub mod team;
+pub mod timing;
