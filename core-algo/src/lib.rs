@@ -18,7 +18,11 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod agent;
+pub mod explore;
 pub mod geometry;
 pub mod map;
+pub mod path;
 pub mod protocol;
 pub mod team;
+pub mod timing;

@@ -1,0 +1,678 @@
+//! Turn-aware distance fields and A* over the known map.
+//!
+//! A robot's time is spent driving edges *and turning on nodes*: a U-turn
+//! costs almost an edge. So the planner searches (node, heading) states: a
+//! quarter turn costs [`Timing::quarter_turn`], driving on along the current
+//! heading costs [`Timing::edge`], and a path is only as cheap as the robot
+//! can actually drive it.
+//!
+//! ## Why two FIFO queues and no heap
+//!
+//! With only two move costs, Dijkstra needs no priority queue: every move of
+//! one kind adds the same constant to a key that is popped in non-decreasing
+//! order, so the entries of one kind arrive in a FIFO already sorted. Popping
+//! the smaller head of the two FIFOs is exact Dijkstra in O(1) per
+//! operation (a two-bucket form of Dial's algorithm).
+//!
+//! ## Memory: 16 bytes per node, caller-provided
+//!
+//! One [`PlanCell`] per node of the map window: the node's distance (the
+//! cheapest over its four headings, 28 bits, plus four "settled" bits), one
+//! byte per heading for that heading's extra cost over the node's distance
+//! (at most a U-turn, so a byte suffices: see
+//! [`MAX_TURN_TICKS`](crate::timing::MAX_TURN_TICKS)), and one slot in each
+//! of the two FIFOs. Keys are never stored: a queue entry names the settled
+//! state it came from, whose distance is final.
+//!
+//! ## What is passable
+//!
+//! A node whose arms are known (visited, or deduced from four visited
+//! neighbours) can be driven through. A frontier node can be reached, along
+//! a known arm of a neighbour, but never driven through: nobody knows where
+//! its arms go.
+
+use crate::geometry::{Arms, Heading, Pos};
+use crate::map::{Block, Bounds, KnownMap};
+use crate::timing::{Ticks, Timing};
+use core::fmt;
+
+const DIST_MASK: u32 = 0x0FFF_FFFF;
+const SETTLED_SHIFT: u32 = 28;
+const NO_OFF: u8 = u8::MAX;
+
+/// The largest distance a field holds (about 31 days at 10 ms ticks);
+/// farther states are left unreached.
+pub const MAX_DIST: Ticks = DIST_MASK - 1;
+
+/// The planner's scratch for one node: 16 bytes. See the module docs.
+#[derive(Clone, Copy, Debug)]
+pub struct PlanCell {
+    base: u32,
+    off: [u8; 4],
+    ring_a: u32,
+    ring_b: u32,
+}
+
+impl PlanCell {
+    /// A cell that nothing has reached.
+    pub const EMPTY: PlanCell = PlanCell {
+        base: DIST_MASK,
+        off: [NO_OFF; 4],
+        ring_a: 0,
+        ring_b: 0,
+    };
+
+    fn dist(&self) -> Option<Ticks> {
+        let d = self.base & DIST_MASK;
+        (d != DIST_MASK).then_some(d)
+    }
+
+    fn settled(&self, h: usize) -> bool {
+        self.base & (1 << (SETTLED_SHIFT + h as u32)) != 0
+    }
+
+    fn pose_dist(&self, h: usize) -> Option<Ticks> {
+        if self.settled(h) {
+            Some((self.base & DIST_MASK) + u32::from(*self.off.get(h)?))
+        } else {
+            None
+        }
+    }
+}
+
+impl Default for PlanCell {
+    fn default() -> Self {
+        PlanCell::EMPTY
+    }
+}
+
+/// Why a search could not run. Nothing panics on bad input.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum PlanError {
+    /// The start lies outside the map window.
+    OutOfBounds(Pos),
+    /// The scratch holds fewer cells than the map window has nodes (or the
+    /// window is too large to index).
+    Capacity {
+        /// Cells needed.
+        needed: usize,
+        /// Cells provided.
+        available: usize,
+    },
+    /// A queue ran out of its share of the scratch. Give the scratch more
+    /// cells than the window has nodes (see [`min_cells`]).
+    QueueFull,
+}
+
+impl fmt::Display for PlanError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PlanError::OutOfBounds(p) => write!(f, "start {p} lies outside the map window"),
+            PlanError::Capacity { needed, available } => {
+                write!(f, "planner scratch holds {available} cells, needs {needed}")
+            }
+            PlanError::QueueFull => f.write_str("planner queue full"),
+        }
+    }
+}
+
+/// Whether a search goes on after a node is reached.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Flow {
+    /// Keep searching.
+    Continue,
+    /// Stop now: everything reached so far keeps its final distance.
+    Stop,
+}
+
+/// The scratch cells a window of `area` nodes needs: the area, but at least
+/// 64 so that the queues of tiny windows (whose wavefront is a large share
+/// of the window) cannot overflow.
+pub const fn min_cells(area: usize) -> usize {
+    if area < 64 { 64 } else { area }
+}
+
+/// The storage index of the neighbour of node `i` towards `h` within
+/// `bounds`, without converting to a [`Pos`].
+pub fn neighbour_index(bounds: Bounds, i: usize, h: Heading) -> Option<usize> {
+    let w = usize::from(bounds.width);
+    if w == 0 {
+        return None;
+    }
+    match h {
+        Heading::North => {
+            let j = i + w;
+            (j < bounds.area()).then_some(j)
+        }
+        Heading::South => i.checked_sub(w),
+        Heading::East => (i % w + 1 < w).then_some(i + 1),
+        Heading::West => (i % w > 0).then(|| i - 1),
+    }
+}
+
+/// The known arms of node `i`: visited, or deduced from four visited
+/// neighbours. `None` for unknown (frontier or unseen) nodes.
+pub fn arms_at<M: AsRef<[Block]> + AsMut<[Block]>>(map: &KnownMap<M>, i: usize) -> Option<Arms> {
+    let c = map.cell_at(i)?;
+    if let Some(a) = c.arms() {
+        return Some(a);
+    }
+    if c.visited_neighbours() == 4 {
+        return map.known_arms(map.bounds().pos(i));
+    }
+    None
+}
+
+/// Manhattan distance of two storage indices in a window of width `w`.
+fn index_manhattan(w: usize, a: usize, b: usize) -> u32 {
+    let (ax, ay) = (a % w, a / w);
+    let (bx, by) = (b % w, b / w);
+    (ax.abs_diff(bx) + ay.abs_diff(by)) as u32
+}
+
+/// A distance field over (node, heading) states from one robot pose, or the
+/// result of an A* search; see the module docs.
+///
+/// `S` is the scratch: `[PlanCell; N]` on the robot, a `Vec` or boxed slice
+/// on the host. The field stays readable until the next search.
+pub struct DistField<S> {
+    cells: S,
+    bounds: Bounds,
+    start: Option<(usize, Heading)>,
+    timing: Timing,
+}
+
+impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
+    /// A field over `storage`, with nothing reached.
+    pub fn new(mut storage: S) -> Self {
+        storage.as_mut().fill(PlanCell::EMPTY);
+        DistField {
+            cells: storage,
+            bounds: Bounds::new(Pos::new(0, 0), 0, 0),
+            start: None,
+            timing: Timing::DEFAULT,
+        }
+    }
+
+    /// The window of the last search.
+    pub fn bounds(&self) -> Bounds {
+        self.bounds
+    }
+
+    /// The start pose of the last search, as (storage index, heading).
+    pub fn start(&self) -> Option<(usize, Heading)> {
+        self.start
+    }
+
+    /// The timing of the last search.
+    pub fn timing(&self) -> Timing {
+        self.timing
+    }
+
+    /// The cheapest time to reach node `i` with any heading, if reached.
+    pub fn dist_at(&self, i: usize) -> Option<Ticks> {
+        if i >= self.bounds.area() {
+            return None;
+        }
+        self.cells.as_ref().get(i)?.dist()
+    }
+
+    /// The cheapest time to reach `p` with any heading, if reached.
+    pub fn dist(&self, p: Pos) -> Option<Ticks> {
+        self.dist_at(self.bounds.index(p)?)
+    }
+
+    /// The cheapest time to stand on `p` facing `h`, if that state was
+    /// settled.
+    pub fn dist_pose(&self, p: Pos, h: Heading) -> Option<Ticks> {
+        let i = self.bounds.index(p)?;
+        self.cells
+            .as_ref()
+            .get(i)?
+            .pose_dist(usize::from(h.index()))
+    }
+
+    fn prepare<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        start: Pos,
+        heading: Heading,
+    ) -> Result<usize, PlanError> {
+        let bounds = map.bounds();
+        let area = bounds.area();
+        let available = self.cells.as_ref().len();
+        if available < min_cells(area) || area >= 1 << 28 {
+            return Err(PlanError::Capacity {
+                needed: min_cells(area),
+                available,
+            });
+        }
+        let s0 = bounds.index(start).ok_or(PlanError::OutOfBounds(start))?;
+        if let Some(cells) = self.cells.as_mut().get_mut(..area) {
+            cells.fill(PlanCell::EMPTY);
+        }
+        self.bounds = bounds;
+        self.start = Some((s0, heading));
+        self.timing = Timing {
+            edge: timing.edge.max(1),
+            quarter_turn: timing.quarter_turn.clamp(1, crate::timing::MAX_TURN_TICKS),
+        };
+        Ok(s0)
+    }
+
+    /// Settles state (`i`, `h`) at `key`; returns whether it was the node's
+    /// first settled state (then `key` is the node's distance), or `None` if
+    /// the state was settled already.
+    fn settle(&mut self, i: usize, h: usize, key: Ticks) -> Option<bool> {
+        let c = self.cells.as_mut().get_mut(i)?;
+        if c.settled(h) {
+            return None;
+        }
+        let first = match c.dist() {
+            None => {
+                c.base = key & DIST_MASK;
+                true
+            }
+            Some(_) => false,
+        };
+        let base = c.base & DIST_MASK;
+        let off = key.saturating_sub(base).min(u32::from(NO_OFF - 1)) as u8;
+        if let Some(o) = c.off.get_mut(h) {
+            *o = off;
+        }
+        c.base |= 1 << (SETTLED_SHIFT + h as u32);
+        Some(first)
+    }
+
+    /// Computes the field from the pose (`start`, `heading`) over `map`,
+    /// calling `reached(i, dist)` once for every node `i` when its distance
+    /// becomes final, nearest first (ties: queue order, deterministic). Stop
+    /// early by returning [`Flow::Stop`].
+    pub fn compute<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        start: Pos,
+        heading: Heading,
+        mut reached: impl FnMut(usize, Ticks) -> Flow,
+    ) -> Result<(), PlanError> {
+        let s0 = self.prepare(map, timing, start, heading)?;
+        let t = self.timing;
+        let bounds = self.bounds;
+        let cap = self.cells.as_ref().len();
+        let (mut a_head, mut a_len, mut b_head, mut b_len) = (0usize, 0usize, 0usize, 0usize);
+        let h0 = usize::from(heading.index());
+        self.settle(s0, h0, 0);
+        if reached(s0, 0) == Flow::Stop {
+            return Ok(());
+        }
+        let mut pending = Some((s0, h0, 0u32));
+        loop {
+            if let Some((v, h, d)) = pending.take() {
+                // Expand the settled state (v, h) at distance d.
+                let Some(arms) = arms_at(map, v) else {
+                    continue;
+                };
+                let heading = Heading::from_index(h as u8);
+                let cells = self.cells.as_mut();
+                if arms.has(heading) && d + t.edge <= MAX_DIST {
+                    if let Some(w) = neighbour_index(bounds, v, heading) {
+                        if !cells.get(w).is_some_and(|c| c.settled(h)) {
+                            if a_len == cap {
+                                return Err(PlanError::QueueFull);
+                            }
+                            if let Some(c) = cells.get_mut((a_head + a_len) % cap) {
+                                c.ring_a = (v * 4 + h) as u32;
+                            }
+                            a_len += 1;
+                        }
+                    }
+                }
+                for (dir, h2) in [(0usize, (h + 1) & 3), (1, (h + 3) & 3)] {
+                    let Some(cv) = cells.get_mut(v) else { continue };
+                    let off = u32::from(cv.off.get(h).copied().unwrap_or(0)) + t.quarter_turn;
+                    if cv.settled(h2) || off >= u32::from(NO_OFF) {
+                        continue;
+                    }
+                    let Some(o) = cv.off.get_mut(h2) else {
+                        continue;
+                    };
+                    if off as u8 >= *o {
+                        continue;
+                    }
+                    *o = off as u8;
+                    if b_len == cap {
+                        return Err(PlanError::QueueFull);
+                    }
+                    let entry = ((v * 4 + h) * 2 + dir) as u32;
+                    if let Some(c) = cells.get_mut((b_head + b_len) % cap) {
+                        c.ring_b = entry;
+                    }
+                    b_len += 1;
+                }
+                continue;
+            }
+            if a_len == 0 && b_len == 0 {
+                return Ok(());
+            }
+            let cells = self.cells.as_ref();
+            let key_of = |state: usize| -> Option<Ticks> {
+                cells.get(state / 4).and_then(|c| c.pose_dist(state % 4))
+            };
+            let a = if a_len > 0 {
+                cells
+                    .get(a_head)
+                    .map(|c| c.ring_a as usize)
+                    .and_then(|s| Some((s, key_of(s)? + t.edge)))
+            } else {
+                None
+            };
+            let b = if b_len > 0 {
+                cells
+                    .get(b_head)
+                    .map(|c| c.ring_b as usize)
+                    .and_then(|e| Some((e, key_of(e / 2)? + t.quarter_turn)))
+            } else {
+                None
+            };
+            let take_a = match (a, b) {
+                (Some((_, ka)), Some((_, kb))) => ka <= kb,
+                (Some(_), None) => true,
+                (None, Some(_)) => false,
+                (None, None) => {
+                    // Corrupt entries: drop them rather than loop forever.
+                    a_len = a_len.saturating_sub(1);
+                    b_len = b_len.saturating_sub(1);
+                    a_head = (a_head + 1) % cap;
+                    b_head = (b_head + 1) % cap;
+                    continue;
+                }
+            };
+            let (v, h, key) = if take_a {
+                a_head = (a_head + 1) % cap;
+                a_len -= 1;
+                let Some((s, key)) = a else { continue };
+                let h = s % 4;
+                let Some(w) = neighbour_index(bounds, s / 4, Heading::from_index(h as u8)) else {
+                    continue;
+                };
+                (w, h, key)
+            } else {
+                b_head = (b_head + 1) % cap;
+                b_len -= 1;
+                let Some((e, key)) = b else { continue };
+                let s = e / 2;
+                let h2 = if e % 2 == 0 { (s + 1) & 3 } else { (s + 3) & 3 };
+                (s / 4, h2, key)
+            };
+            match self.settle(v, h, key) {
+                None => continue,
+                Some(true) => {
+                    if reached(v, key) == Flow::Stop {
+                        return Ok(());
+                    }
+                }
+                Some(false) => {}
+            }
+            pending = Some((v, h, key));
+        }
+    }
+
+    /// A* from the pose (`start`, `heading`) to node `goal` with the same
+    /// costs as [`DistField::compute`] and the admissible, consistent
+    /// heuristic `edge × Manhattan distance`. Returns the cost of the
+    /// cheapest path (arriving with any heading), or `None` when the goal
+    /// cannot be reached. Afterwards [`DistField::path`] and
+    /// [`DistField::first_heading`] work towards `goal`.
+    ///
+    /// The heap lives in the queue slots of the scratch; it holds at most
+    /// one entry per scratch cell ([`PlanError::QueueFull`] beyond that).
+    pub fn astar<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        start: Pos,
+        heading: Heading,
+        goal: Pos,
+    ) -> Result<Option<Ticks>, PlanError> {
+        let s0 = self.prepare(map, timing, start, heading)?;
+        let Some(g) = self.bounds.index(goal) else {
+            return Ok(None);
+        };
+        let t = self.timing;
+        let bounds = self.bounds;
+        let w = usize::from(bounds.width);
+        let hfn = |i: usize| index_manhattan(w, i, g).saturating_mul(t.edge);
+        let mut heap = Heap { len: 0 };
+        // Entries: (f, state); the g of a popped entry is f − h(node).
+        heap.push(
+            self.cells.as_mut(),
+            hfn(s0),
+            (s0 * 4 + usize::from(heading.index())) as u32,
+        )?;
+        while let Some((f, state)) = heap.pop(self.cells.as_mut()) {
+            let state = state as usize;
+            let (v, h) = (state / 4, state % 4);
+            let d = f.saturating_sub(hfn(v));
+            let Some(_) = self.settle(v, h, d) else {
+                continue;
+            };
+            if v == g {
+                return Ok(Some(d));
+            }
+            let Some(arms) = arms_at(map, v) else {
+                continue;
+            };
+            let hd = Heading::from_index(h as u8);
+            if arms.has(hd) && d + t.edge <= MAX_DIST {
+                if let Some(nb) = neighbour_index(bounds, v, hd) {
+                    let cells = self.cells.as_mut();
+                    if !cells.get(nb).is_some_and(|c| c.settled(h)) {
+                        heap.push(cells, d + t.edge + hfn(nb), (nb * 4 + h) as u32)?;
+                    }
+                }
+            }
+            let cells = self.cells.as_mut();
+            let Some(cv) = cells.get_mut(v) else { continue };
+            let off = u32::from(cv.off.get(h).copied().unwrap_or(0)) + t.quarter_turn;
+            let base = cv.base & DIST_MASK;
+            let mut pushes = [None, None];
+            for (k, h2) in [(h + 1) & 3, (h + 3) & 3].into_iter().enumerate() {
+                if cv.settled(h2) || off >= u32::from(NO_OFF) {
+                    continue;
+                }
+                let Some(o) = cv.off.get_mut(h2) else {
+                    continue;
+                };
+                if off as u8 >= *o {
+                    continue;
+                }
+                *o = off as u8;
+                if let Some(p) = pushes.get_mut(k) {
+                    *p = Some((base + off + hfn(v), (v * 4 + h2) as u32));
+                }
+            }
+            for (key, s) in pushes.into_iter().flatten() {
+                heap.push(cells, key, s)?;
+            }
+        }
+        Ok(None)
+    }
+
+    /// Whether the drive into state (`v`, `h`) at `d` came from (`u`, `h`).
+    fn drive_pred<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        v: usize,
+        h: usize,
+        d: Ticks,
+    ) -> Option<usize> {
+        let hd = Heading::from_index(h as u8);
+        let u = neighbour_index(self.bounds, v, hd.opposite())?;
+        let du = self.cells.as_ref().get(u)?.pose_dist(h)?;
+        (du + self.timing.edge == d && arms_at(map, u)?.has(hd)).then_some(u)
+    }
+
+    /// Walks the cheapest path back from node `target` to the start,
+    /// calling `step(node, heading driven into it)` for each drive, last
+    /// drive first. Returns `false` if `target` was not reached.
+    fn walk_back<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        target: usize,
+        mut step: impl FnMut(usize, Heading),
+    ) -> bool {
+        let Some((s0, h0)) = self.start else {
+            return false;
+        };
+        let Some(cell) = self.cells.as_ref().get(target) else {
+            return false;
+        };
+        let Some(mut h) = (0..4).find(|&h| cell.pose_dist(h) == cell.dist()) else {
+            return false;
+        };
+        let mut v = target;
+        let Some(mut d) = cell.pose_dist(h) else {
+            return false;
+        };
+        let t = self.timing;
+        for _ in 0..self.bounds.area().saturating_mul(4).saturating_add(4) {
+            if v == s0 && h == usize::from(h0.index()) && d == 0 {
+                return true;
+            }
+            if let Some(u) = self.drive_pred(map, v, h, d) {
+                step(v, Heading::from_index(h as u8));
+                v = u;
+                d -= t.edge;
+                continue;
+            }
+            let cv = self.cells.as_ref().get(v);
+            let turn = [(h + 3) & 3, (h + 1) & 3].into_iter().find(|&hp| {
+                cv.and_then(|c| c.pose_dist(hp))
+                    .is_some_and(|dp| dp + t.quarter_turn == d)
+            });
+            let Some(hp) = turn else { return false };
+            h = hp;
+            d -= t.quarter_turn;
+        }
+        false
+    }
+
+    /// The heading the robot must face to leave the start node on the
+    /// cheapest path to node `target`; `None` when `target` is the start
+    /// node or was not reached.
+    pub fn first_heading<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        target: usize,
+    ) -> Option<Heading> {
+        let mut first = None;
+        self.walk_back(map, target, |_, h| first = Some(h))
+            .then_some(first)
+            .flatten()
+    }
+
+    /// Writes the nodes of the cheapest path to node `target` into `out`,
+    /// start node first; returns their number, or `None` if `target` was
+    /// not reached or `out` is too short.
+    pub fn path<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        target: usize,
+        out: &mut [Pos],
+    ) -> Option<usize> {
+        let mut n = 0usize;
+        let mut fits = true;
+        let bounds = self.bounds;
+        let ok = self.walk_back(map, target, |v, _| {
+            if let Some(slot) = out.get_mut(n) {
+                *slot = bounds.pos(v);
+            } else {
+                fits = false;
+            }
+            n += 1;
+        });
+        let (s0, _) = self.start?;
+        if !ok || !fits {
+            return None;
+        }
+        let slot = out.get_mut(n)?;
+        *slot = bounds.pos(s0);
+        n += 1;
+        out.get_mut(..n)?.reverse();
+        Some(n)
+    }
+}
+
+/// A binary min-heap of (key, state) in the queue slots of the scratch.
+struct Heap {
+    len: usize,
+}
+
+impl Heap {
+    fn entry(cells: &[PlanCell], i: usize) -> (u32, u32) {
+        cells
+            .get(i)
+            .map_or((u32::MAX, u32::MAX), |c| (c.ring_a, c.ring_b))
+    }
+
+    fn set(cells: &mut [PlanCell], i: usize, e: (u32, u32)) {
+        if let Some(c) = cells.get_mut(i) {
+            c.ring_a = e.0;
+            c.ring_b = e.1;
+        }
+    }
+
+    fn push(&mut self, cells: &mut [PlanCell], key: u32, state: u32) -> Result<(), PlanError> {
+        if self.len >= cells.len() {
+            return Err(PlanError::QueueFull);
+        }
+        let mut i = self.len;
+        self.len += 1;
+        let e = (key, state);
+        while i > 0 {
+            let p = (i - 1) / 2;
+            let pe = Self::entry(cells, p);
+            if pe <= e {
+                break;
+            }
+            Self::set(cells, i, pe);
+            i = p;
+        }
+        Self::set(cells, i, e);
+        Ok(())
+    }
+
+    fn pop(&mut self, cells: &mut [PlanCell]) -> Option<(u32, u32)> {
+        if self.len == 0 {
+            return None;
+        }
+        let top = Self::entry(cells, 0);
+        self.len -= 1;
+        let last = Self::entry(cells, self.len);
+        let mut i = 0;
+        loop {
+            let l = 2 * i + 1;
+            if l >= self.len {
+                break;
+            }
+            let r = l + 1;
+            let mut c = l;
+            if r < self.len && Self::entry(cells, r) < Self::entry(cells, l) {
+                c = r;
+            }
+            let ce = Self::entry(cells, c);
+            if last <= ce {
+                break;
+            }
+            Self::set(cells, i, ce);
+            i = c;
+        }
+        Self::set(cells, i, last);
+        Some(top)
+    }
+}
+
+#[cfg(test)]
+mod tests;

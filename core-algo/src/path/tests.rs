@@ -1,0 +1,194 @@
+use super::*;
+use crate::map::blocks_for;
+use crate::team::RobotId;
+use proptest::prelude::*;
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+use std::vec;
+use std::vec::Vec;
+
+/// A random field of `w` × `h` nodes (reciprocal arms) and a known map of
+/// the first `known` nodes reached by BFS from (0, 0).
+pub(crate) fn random_known(w: u16, h: u16, seed: u64, known: usize) -> KnownMap<Vec<Block>> {
+    let bounds = Bounds::new(Pos::new(0, 0), w, h);
+    let mut arms = vec![Arms::NONE; bounds.area()];
+    let mut s = seed | 1;
+    let mut rnd = || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        s
+    };
+    for i in 0..bounds.area() {
+        for hd in [Heading::North, Heading::East] {
+            if let Some(j) = neighbour_index(bounds, i, hd) {
+                if rnd() % 100 < 70 {
+                    arms[i] = arms[i].with(hd);
+                    arms[j] = arms[j].with(hd.opposite());
+                }
+            }
+        }
+    }
+    let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(bounds.area())], bounds).unwrap();
+    let mut seen = vec![false; bounds.area()];
+    let mut queue = std::collections::VecDeque::from([0usize]);
+    seen[0] = true;
+    let mut n = 0;
+    while let Some(i) = queue.pop_front() {
+        if n >= known {
+            break;
+        }
+        map.visit(bounds.pos(i), arms[i], RobotId(0)).unwrap();
+        n += 1;
+        for hd in arms[i].iter() {
+            if let Some(j) = neighbour_index(bounds, i, hd) {
+                if !seen[j] {
+                    seen[j] = true;
+                    queue.push_back(j);
+                }
+            }
+        }
+    }
+    map
+}
+
+/// Brute-force Dijkstra over (node, heading) states with a binary heap.
+fn brute(map: &KnownMap<Vec<Block>>, t: Timing, s0: usize, h0: usize) -> Vec<Option<u32>> {
+    let b = map.bounds();
+    let mut dist = vec![None; b.area() * 4];
+    let mut heap = BinaryHeap::new();
+    heap.push(Reverse((0u32, s0 * 4 + h0)));
+    while let Some(Reverse((d, s))) = heap.pop() {
+        if dist[s].is_some() {
+            continue;
+        }
+        dist[s] = Some(d);
+        let (v, h) = (s / 4, s % 4);
+        let Some(a) = arms_at(map, v) else { continue };
+        let hd = Heading::from_index(h as u8);
+        if a.has(hd) {
+            if let Some(w) = neighbour_index(b, v, hd) {
+                heap.push(Reverse((d + t.edge, w * 4 + h)));
+            }
+        }
+        heap.push(Reverse((d + t.quarter_turn, v * 4 + (h + 1) % 4)));
+        heap.push(Reverse((d + t.quarter_turn, v * 4 + (h + 3) % 4)));
+    }
+    dist
+}
+
+fn field_for(area: usize) -> DistField<Vec<PlanCell>> {
+    DistField::new(vec![PlanCell::EMPTY; min_cells(area)])
+}
+
+#[test]
+fn straight_corridor_costs_edges_and_turns() {
+    let bounds = Bounds::new(Pos::new(0, 0), 4, 1);
+    let mut map = KnownMap::new(vec![Block::EMPTY; 1], bounds).unwrap();
+    let ew = Arms::NONE.with(Heading::East).with(Heading::West);
+    map.visit(Pos::new(0, 0), Arms::NONE.with(Heading::East), RobotId(0))
+        .unwrap();
+    map.visit(Pos::new(1, 0), ew, RobotId(0)).unwrap();
+    map.visit(Pos::new(2, 0), ew, RobotId(0)).unwrap();
+    let t = Timing::DEFAULT;
+    let mut f = field_for(4);
+    f.compute(&map, t, Pos::new(0, 0), Heading::North, |_, _| {
+        Flow::Continue
+    })
+    .unwrap();
+    // One right turn, then three edges; (3, 0) is a frontier node.
+    assert_eq!(f.dist(Pos::new(3, 0)), Some(t.quarter_turn + 3 * t.edge));
+    assert_eq!(
+        f.dist_pose(Pos::new(0, 0), Heading::South),
+        Some(2 * t.quarter_turn)
+    );
+    assert_eq!(
+        f.dist_pose(Pos::new(3, 0), Heading::West),
+        None,
+        "frontier is not expanded"
+    );
+    assert_eq!(f.first_heading(&map, 3), Some(Heading::East));
+    let mut out = [Pos::new(0, 0); 8];
+    let n = f.path(&map, 3, &mut out).unwrap();
+    assert_eq!(
+        &out[..n],
+        &[
+            Pos::new(0, 0),
+            Pos::new(1, 0),
+            Pos::new(2, 0),
+            Pos::new(3, 0)
+        ]
+    );
+    assert_eq!(f.first_heading(&map, 0), None);
+}
+
+#[test]
+fn too_small_scratch_is_an_error_not_a_panic() {
+    let map = random_known(10, 10, 3, 50);
+    let mut f = DistField::new(vec![PlanCell::EMPTY; 10]);
+    let r = f.compute(
+        &map,
+        Timing::DEFAULT,
+        Pos::new(0, 0),
+        Heading::North,
+        |_, _| Flow::Continue,
+    );
+    assert!(matches!(r, Err(PlanError::Capacity { .. })));
+    let mut f = field_for(100);
+    let r = f.compute(
+        &map,
+        Timing::DEFAULT,
+        Pos::new(-1, 0),
+        Heading::North,
+        |_, _| Flow::Continue,
+    );
+    assert_eq!(r, Err(PlanError::OutOfBounds(Pos::new(-1, 0))));
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(96))]
+
+    #[test]
+    fn field_agrees_with_brute_force_dijkstra(
+        w in 1u16..12, h in 1u16..12, seed in any::<u64>(), frac in 0.0f64..1.0, h0 in 0u8..4,
+        edge in 1u32..200, turn in 1u32..128,
+    ) {
+        let area = usize::from(w) * usize::from(h);
+        let map = random_known(w, h, seed, (area as f64 * frac) as usize + 1);
+        let t = Timing { edge, quarter_turn: turn };
+        let mut f = field_for(area);
+        let mut order = Vec::new();
+        f.compute(&map, t, Pos::new(0, 0), Heading::from_index(h0), |i, d| {
+            order.push((i, d));
+            Flow::Continue
+        }).unwrap();
+        let want = brute(&map, t, 0, usize::from(h0));
+        for v in 0..area {
+            let p = map.bounds().pos(v);
+            for hd in Heading::ALL {
+                let s = v * 4 + usize::from(hd.index());
+                // Frontier nodes are reached but not turned on.
+                if arms_at(&map, v).is_some() || want[s].is_none() {
+                    prop_assert_eq!(f.dist_pose(p, hd), want[s], "state {:?} {:?}", p, hd);
+                }
+            }
+            let node = (0..4).filter_map(|k| want[v * 4 + k]).min();
+            prop_assert_eq!(f.dist_at(v), node);
+        }
+        // Nodes are reported once each, nearest first.
+        prop_assert!(order.windows(2).all(|p| p[0].1 <= p[1].1));
+        // A* agrees with the field on every reachable node, and paths cost
+        // what the field says.
+        let mut a = field_for(area);
+        for v in 0..area {
+            let got = a.astar(&map, t, Pos::new(0, 0), Heading::from_index(h0), map.bounds().pos(v)).unwrap();
+            prop_assert_eq!(got, f.dist_at(v));
+            if got.is_some() {
+                let mut out = vec![Pos::new(0, 0); area + 1];
+                let n = a.path(&map, v, &mut out).unwrap();
+                prop_assert_eq!(out[n - 1], map.bounds().pos(v));
+                prop_assert!(n as u32 - 1 <= got.unwrap() / t.edge);
+            }
+        }
+    }
+}
