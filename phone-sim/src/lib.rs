@@ -8,5 +8,9 @@
 //! the firmware.
 
 pub mod cli;
+pub mod environment;
 pub mod field;
+pub mod handlers;
+pub mod proxy;
 pub mod render;
+pub mod sim;

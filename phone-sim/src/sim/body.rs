@@ -28,6 +28,9 @@ pub enum Order {
     Turn(Turn),
     /// Drive to the next node.
     Move,
+    /// Turn once around on the spot and classify the node (the initial
+    /// scan of the start node).
+    Scan,
 }
 
 /// What a body's sensors report when an action ends.
@@ -48,6 +51,7 @@ pub enum Report {
 enum Action {
     Idle,
     Turning { until: u32 },
+    Scanning { until: u32 },
     Driving { from: Pos, to: Pos, depart: u32, arrive: u32 },
     Returning { to: Pos, arrive: u32 },
 }
@@ -107,7 +111,7 @@ impl Body {
     /// end of its edge.
     fn occupied(&self, now: u32) -> Option<Pos> {
         match self.action {
-            Action::Idle | Action::Turning { .. } => Some(self.pos),
+            Action::Idle | Action::Turning { .. } | Action::Scanning { .. } => Some(self.pos),
             Action::Driving { from, to, depart, arrive } if !self.alive => {
                 Some(if now.saturating_sub(depart) * 2 >= arrive.saturating_sub(depart) { to } else { from })
             }
@@ -197,7 +201,7 @@ impl Bodies {
             .filter_map(|b| match b.action {
                 Action::Idle if !b.queue.is_empty() => Some(b.stalled_until),
                 Action::Idle => None,
-                Action::Turning { until } => Some(until),
+                Action::Turning { until } | Action::Scanning { until } => Some(until),
                 Action::Driving { arrive, .. } | Action::Returning { arrive, .. } => Some(arrive),
             })
             .min()
@@ -216,7 +220,7 @@ impl Bodies {
                     let t = match b.action {
                         Action::Idle if !b.queue.is_empty() => b.stalled_until,
                         Action::Idle => return None,
-                        Action::Turning { until } => until,
+                        Action::Turning { until } | Action::Scanning { until } => until,
                         Action::Driving { arrive, .. } | Action::Returning { arrive, .. } => arrive,
                     };
                     (t <= now).then_some((t, i))
@@ -235,6 +239,13 @@ impl Bodies {
             Action::Turning { .. } => {
                 if let Some(b) = self.bodies.get_mut(i) {
                     b.action = Action::Idle;
+                }
+            }
+            Action::Scanning { .. } => {
+                if let Some(b) = self.bodies.get_mut(i) {
+                    b.action = Action::Idle;
+                    let arms = self.truth.get(&b.pos).copied().unwrap_or_default();
+                    reports.push((id, Report::NodeHit { relative: arms.to_relative(b.heading) }));
                 }
             }
             Action::Driving { from, to, .. } => {
@@ -295,6 +306,12 @@ impl Bodies {
                     let q = if t == Turn::UTurn { 2 } else { 1 };
                     b.stats.quarter_turns += q;
                     b.action = Action::Turning { until: now + quarter * q };
+                }
+            }
+            Order::Scan => {
+                if let Some(b) = self.bodies.get_mut(i) {
+                    b.stats.quarter_turns += 4;
+                    b.action = Action::Scanning { until: now + quarter * 4 };
                 }
             }
             Order::Move => {

@@ -209,6 +209,10 @@ impl SimFirmware {
 
     fn feed(&mut self, now: u32, event: AgentEvent, orders: &mut Vec<Order>) {
         let Ok(commands) = self.agent.handle(now, event) else { return };
+        if matches!(event, AgentEvent::Start { .. }) {
+            // The initial scan classifies the start node (seed §2.5).
+            orders.push(Order::Scan);
+        }
         for c in commands {
             match c {
                 Command::Turn(t) => orders.push(Order::Turn(t)),
