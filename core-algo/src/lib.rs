@@ -18,6 +18,7 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod explore;
 pub mod geometry;
 pub mod map;
 pub mod path;
