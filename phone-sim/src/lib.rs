@@ -1,3 +1,14 @@
-//! placeholder
+//! # phone-sim
+//!
+//! The phone side and the simulator of e-puck Conquest, behind the binary
+//! `conquest`: field files and generators ([`field`]), pictures of fields
+//! ([`render`]), and, as the project grows, the world simulator, the robot
+//! proxies, the observable environment, the web UI and the benchmark runner.
+//! Robot decisions are not made here: they live in `core-algo`, shared with
+//! the firmware.
+
 pub mod bench;
+pub mod cli;
+pub mod field;
+pub mod render;
 pub mod world;

@@ -9,6 +9,8 @@
 pub mod bound;
 mod report;
 
+use crate::field::Field;
+use crate::field::generate::Kind;
 use crate::world::{self, DynStrategy, RunStats, Truth, WorldConfig};
 use core_algo::explore::{
     Assignment, AssignmentObjective, BurgardGreedy, GreedyClaim, MinPos, NearestFrontier,
@@ -221,21 +223,28 @@ pub fn run_jobs(
         .collect()
 }
 
-/// The generated default fields: the sample generator until the project's
-/// field generators are merged.
+/// The project's generated default fields: maze, rooms, random and open of
+/// each size, with their six starts.
 pub fn default_fields(sizes: &[u16], seed: u64) -> Vec<BenchField> {
     let mut out = Vec::new();
     for &n in sizes {
-        for (kind, extra) in [("tree", 0u32), ("sparse", 15), ("dense", 50)] {
-            let (truth, starts) = world::sample::random_field(n, n, seed, extra, 6);
-            out.push(BenchField {
-                name: format!("{kind}-{n}"),
-                truth,
-                starts,
-            });
+        for kind in Kind::ALL {
+            let f = kind.generate(n, n, seed);
+            out.push(BenchField::from_field(&f, format!("{}-{n}", kind.name())));
         }
     }
     out
+}
+
+impl BenchField {
+    /// A benchmark field from a validated field.
+    pub fn from_field(f: &Field, name: String) -> BenchField {
+        BenchField {
+            name,
+            truth: Truth::new(f.nodes().iter().map(|(p, a)| (*p, *a))),
+            starts: f.starts().iter().map(|s| (s.pos, s.heading)).collect(),
+        }
+    }
 }
 
 /// `conquest bench`.
@@ -278,9 +287,38 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
-/// Loads field files and folders.
-fn load_inputs(_inputs: &[PathBuf]) -> Result<Vec<BenchField>, Box<dyn std::error::Error>> {
-    Err("loading field files needs phone_sim::field (not merged yet)".into())
+/// Loads field files and the field files of folders (sorted by name).
+fn load_inputs(inputs: &[PathBuf]) -> Result<Vec<BenchField>, Box<dyn std::error::Error>> {
+    let mut files = Vec::new();
+    for p in inputs {
+        if p.is_dir() {
+            let mut inner: Vec<PathBuf> = std::fs::read_dir(p)?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|f| {
+                    f.extension()
+                        .and_then(|x| x.to_str())
+                        .is_some_and(|x| ["sim", "sep", "field", "map"].contains(&x))
+                })
+                .collect();
+            inner.sort();
+            files.extend(inner);
+        } else {
+            files.push(p.clone());
+        }
+    }
+    let mut out = Vec::new();
+    for f in files {
+        let field = crate::field::load(&f).map_err(|e| e.to_string())?;
+        let mut bf = BenchField::from_field(&field, field.name().to_string());
+        if bf.starts.is_empty() {
+            bf.starts = crate::field::default_starts(field.nodes(), 6)
+                .iter()
+                .map(|s| (s.pos, s.heading))
+                .collect();
+        }
+        out.push(bf);
+    }
+    Ok(out)
 }
 
 /// Ticks per edge of a timing, for reports.

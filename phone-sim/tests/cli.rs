@@ -1,0 +1,128 @@
+//! The `conquest` binary as a user meets it: exit codes, one-line errors,
+//! and every field the project ships.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn conquest(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_conquest"))
+        .args(args)
+        .output()
+        .expect("run conquest")
+}
+
+fn fields_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fields")
+}
+
+fn project_fields() -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut dirs = vec![fields_dir()];
+    while let Some(d) = dirs.pop() {
+        for e in std::fs::read_dir(d).expect("fields/") {
+            let p = e.expect("entry").path();
+            if p.is_dir() {
+                dirs.push(p);
+            } else {
+                out.push(p);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn every_project_field_validates() {
+    let fields = project_fields();
+    assert!(fields.len() >= 8, "{fields:?}");
+    for f in fields {
+        let out = conquest(&["validate", f.to_str().unwrap()]);
+        assert!(
+            out.status.success(),
+            "{}: {}",
+            f.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(String::from_utf8_lossy(&out.stdout).contains(": ok: "));
+    }
+}
+
+#[test]
+fn bad_input_is_one_line_and_status_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("broken.sim");
+    // A corrupted copy of a project field: one node type misspelt.
+    let good = std::fs::read_to_string(fields_dir().join("small/ring.sim")).unwrap();
+    std::fs::write(&bad, good.replacen("CROSS", "CROS", 1)).unwrap();
+    let out = conquest(&["validate", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(
+        err.contains("broken.sim:") && err.contains("expected a node type"),
+        "{err}"
+    );
+    let out = conquest(&["validate", "/nonexistent/x.field"]);
+    assert_eq!(out.status.code(), Some(2));
+    let out = conquest(&["generate", "maze", "--size", "0x3"]);
+    assert_eq!(out.status.code(), Some(2), "clap usage errors exit 2 too");
+}
+
+#[test]
+fn convert_render_generate_round_trip() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |n: &str| dir.path().join(n).to_str().unwrap().to_string();
+    assert!(
+        conquest(&[
+            "generate",
+            "open",
+            "--size",
+            "5x4",
+            "--seed",
+            "3",
+            "--out",
+            &d("g.field")
+        ])
+        .status
+        .success()
+    );
+    assert!(
+        conquest(&["convert", &d("g.field"), &d("g.sim")])
+            .status
+            .success()
+    );
+    assert!(
+        conquest(&["convert", &d("g.sim"), &d("h.field")])
+            .status
+            .success()
+    );
+    let a = std::fs::read_to_string(d("g.field")).unwrap();
+    let b = std::fs::read_to_string(d("h.field")).unwrap();
+    // Only the name differs (a .sim file carries none; it takes the file's).
+    assert_eq!(
+        a.lines().skip(2).collect::<Vec<_>>(),
+        b.lines().skip(2).collect::<Vec<_>>()
+    );
+    for pic in ["g.svg", "g.png"] {
+        let out = conquest(&["render", &d("g.field"), "--out", &d(pic)]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(std::fs::metadata(d(pic)).unwrap().len() > 100);
+    }
+    let svg = std::fs::read_to_string(d("g.svg")).unwrap();
+    assert_eq!(svg.matches("<line ").count(), 4 * 4 + 5 * 3);
+    assert_eq!(svg.matches("<polygon ").count(), 6);
+    let png = std::fs::read(d("g.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+}
+
+#[test]
+fn no_arguments_runs_the_demo() {
+    let out = conquest(&[]);
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("demo"));
+}
