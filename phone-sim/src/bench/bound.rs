@@ -25,6 +25,16 @@
 //! - explore only: E ≥ max_t [t + ⌈M_t / k⌉] over t with M_t ≥ 1;
 //! - with return:  E ≥ max_t [2t + 1 + ⌈M_t / k⌉] over t with M_t ≥ 1.
 //!
+//! And, because every robot ends where it started, a bridge of the field is
+//! crossed an even number of times by each robot's closed walk. The union of
+//! the walks spans the visited nodes in at most k' components (k' distinct
+//! starts), so all robots together drive at least
+//! (n − α(C) − k') + B edges, where B counts the bridges whose start-free
+//! side holds a node that must be visited (two or more nodes: two
+//! neighbours cannot both be skipped; one node: unless it is a candidate).
+//! Hence, with return, E ≥ ⌈((n − α(C) − k') + B) / k⌉. On a maze (a tree)
+//! this doubles the layered bound.
+//!
 //! Time bounds multiply by the edge time (turns only add time).
 
 use crate::world::Truth;
@@ -176,6 +186,17 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
             sr = sr.max(2 * t64 + 1 + must.div_ceil(k));
         }
     }
+    // The bridge bound (return only), with and without skipping.
+    let (b_needed, b_all) = needed_bridges(truth, &dist, &is_start, &candidate);
+    let alpha = cands - m.size as u64;
+    let k_d = {
+        let mut d = sources.clone();
+        d.sort_unstable();
+        d.dedup();
+        d.len() as u64
+    };
+    sr = sr.max((n.saturating_sub(alpha + k_d) + b_needed).div_ceil(k));
+    ar = ar.max((n.saturating_sub(k_d) + b_all).div_ceil(k));
     let diam = sources
         .iter()
         .map(|&s| {
@@ -196,6 +217,89 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
         offline_upper: diam + tour,
         offline_upper_return: 2 * diam + tour,
     }
+}
+
+/// Bridges whose start-free side must be entered: (under the skipping rule,
+/// with every node must-visit). Iterative Tarjan over the reachable field.
+fn needed_bridges(
+    truth: &Truth,
+    dist: &[u32],
+    is_start: &[bool],
+    candidate: &dyn Fn(usize) -> bool,
+) -> (u64, u64) {
+    let area = truth.bounds().area();
+    let Some(root) = (0..area).find(|&i| is_start.get(i) == Some(&true)) else {
+        return (0, 0);
+    };
+    let reach = |i: usize| dist.get(i).is_some_and(|&d| d != u32::MAX);
+    let total_nodes = (0..area)
+        .filter(|&i| reach(i) && truth.arms_at(i).is_some())
+        .count() as u64;
+    let total_starts = (0..area).filter(|&i| is_start[i]).count() as u64;
+    let total_noncand = (0..area)
+        .filter(|&i| reach(i) && truth.arms_at(i).is_some() && !candidate(i))
+        .count() as u64;
+    let mut disc = vec![u32::MAX; area];
+    let mut low = vec![0u32; area];
+    // Per node: subtree size, starts and non-candidates.
+    let mut size = vec![0u64; area];
+    let mut starts = vec![0u64; area];
+    let mut noncand = vec![0u64; area];
+    let (mut needed, mut all) = (0u64, 0u64);
+    let mut time = 0u32;
+    // Stack frames: (node, parent, next heading index).
+    let mut stack: Vec<(usize, usize, usize)> = vec![(root, usize::MAX, 0)];
+    disc[root] = 0;
+    low[root] = 0;
+    while let Some(&mut (v, parent, ref mut next)) = stack.last_mut() {
+        if *next < 4 {
+            let h = Heading::ALL[*next];
+            *next += 1;
+            let Some(u) = truth.along(v, h) else { continue };
+            if u == parent {
+                continue;
+            }
+            if disc[u] == u32::MAX {
+                time += 1;
+                disc[u] = time;
+                low[u] = time;
+                stack.push((u, v, 0));
+            } else {
+                low[v] = low[v].min(disc[u]);
+            }
+            continue;
+        }
+        stack.pop();
+        size[v] += 1;
+        starts[v] += u64::from(is_start[v]);
+        noncand[v] += u64::from(!candidate(v));
+        if parent == usize::MAX {
+            continue;
+        }
+        low[parent] = low[parent].min(low[v]);
+        size[parent] += size[v];
+        starts[parent] += starts[v];
+        noncand[parent] += noncand[v];
+        if low[v] > disc[parent] {
+            // (parent, v) is a bridge; find its start-free side.
+            let side = if starts[v] == 0 {
+                Some((size[v], noncand[v]))
+            } else if starts[v] == total_starts {
+                Some((total_nodes - size[v], total_noncand - noncand[v]))
+            } else {
+                None
+            };
+            if let Some((n, nc)) = side {
+                if n >= 1 {
+                    all += 1;
+                }
+                if n >= 2 || nc >= 1 {
+                    needed += 1;
+                }
+            }
+        }
+    }
+    (needed, all)
 }
 
 #[cfg(test)]
@@ -233,6 +337,9 @@ mod tests {
         let lb = lower_bounds(&grid(5, 1), &[Pos::new(0, 0)], 1);
         assert_eq!((lb.explore, lb.with_return), (4, 8));
         assert_eq!((lb.all_nodes_explore, lb.all_nodes_return), (4, 8));
+        // From the middle with two robots: each side is a bridge chain.
+        let lb = lower_bounds(&grid(5, 1), &[Pos::new(2, 0), Pos::new(1, 0)], 2);
+        assert_eq!(lb.with_return, 4);
     }
 
     #[test]
