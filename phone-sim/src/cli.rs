@@ -32,6 +32,8 @@ pub enum Command {
     Render(RenderArgs),
     /// Generate a field (maze, rooms, random, open) from a seed.
     Generate(GenerateArgs),
+    /// Compare exploration strategies against the lower bound.
+    Bench(crate::bench::BenchArgs),
 }
 
 /// How to read input fields.
@@ -219,6 +221,9 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
             crate::render::render(&f, &a.out).map_err(CliError::BadInput)?;
             println!("{} -> {}", a.file.display(), a.out.display());
             Ok(())
+        }
+        Some(Command::Bench(a)) => {
+            crate::bench::main(a).map_err(|e| CliError::Failed(e.to_string()))
         }
         Some(Command::Generate(a)) => {
             let f = a.kind.generate(a.size.0, a.size.1, a.seed);

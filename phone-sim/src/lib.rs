@@ -7,6 +7,7 @@
 //! Robot decisions are not made here: they live in `core-algo`, shared with
 //! the firmware.
 
+pub mod bench;
 pub mod cli;
 pub mod environment;
 pub mod field;
@@ -14,3 +15,4 @@ pub mod handlers;
 pub mod proxy;
 pub mod render;
 pub mod sim;
+pub mod world;

@@ -1,0 +1,402 @@
+//! Centralised re-assignment of the whole team at every decision: Hungarian
+//! min-sum, bottleneck min-max, and Burgard's greedy cost–utility.
+//!
+//! ## Why few candidates suffice
+//!
+//! In an optimal one-to-one assignment of k robots, every robot can be given
+//! one of its own k cheapest frontier nodes: if it had another, one of its k
+//! cheapest is free (only k − 1 others are taken) and swapping to it lowers
+//! neither the sum nor the maximum. So the assignment runs on the union of
+//! each robot's k cheapest frontier nodes, at most k² columns, in fixed
+//! arrays without allocation.
+
+use super::layers::CooperationLayer;
+use super::{Context, Decision, MAX_ROBOTS, Strategy, explore_decision, go_home, nearest_or_home};
+use crate::geometry::Pos;
+use crate::map::Block;
+use crate::path::{DistField, Flow, PlanCell, PlanError};
+
+/// Most candidate frontier nodes an assignment considers.
+pub const MAX_CANDIDATES: usize = MAX_ROBOTS * MAX_ROBOTS;
+
+const INF: i64 = 1 << 40;
+
+/// The cost matrix of a team against candidate frontier nodes.
+pub(crate) struct Candidates {
+    pub(crate) k: usize,
+    pub(crate) m: usize,
+    pub(crate) nodes: [usize; MAX_CANDIDATES],
+    pub(crate) cost: [[i64; MAX_CANDIDATES]; MAX_ROBOTS],
+}
+
+impl Candidates {
+    /// Computes one full field per robot (`fields[j]` from robot `j`'s pose)
+    /// and collects each robot's `per_robot` cheapest frontier nodes. Returns
+    /// `None` when there are too few fields or too many robots.
+    pub(crate) fn collect<M, F>(
+        ctx: &Context<'_, M>,
+        fields: &mut [DistField<F>],
+        per_robot: usize,
+    ) -> Result<Option<Candidates>, PlanError>
+    where
+        M: AsRef<[Block]> + AsMut<[Block]>,
+        F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+    {
+        let k = ctx.robots.len();
+        if k > MAX_ROBOTS || fields.len() < k || k == 0 {
+            return Ok(None);
+        }
+        let mut c = Candidates {
+            k,
+            m: 0,
+            nodes: [0; MAX_CANDIDATES],
+            cost: [[INF; MAX_CANDIDATES]; MAX_ROBOTS],
+        };
+        let per_robot = per_robot.clamp(1, MAX_CANDIDATES / k);
+        for (r, field) in ctx.robots.iter().zip(fields.iter_mut()) {
+            let mut found = 0usize;
+            field.compute(ctx.map, ctx.timing, r.pos, r.heading, |i, _| {
+                if found < per_robot && ctx.map.is_frontier_at(i) {
+                    found += 1;
+                    if !c.nodes.get(..c.m).is_some_and(|s| s.contains(&i)) {
+                        if let Some(slot) = c.nodes.get_mut(c.m) {
+                            *slot = i;
+                            c.m += 1;
+                        }
+                    }
+                }
+                Flow::Continue
+            })?;
+        }
+        for (j, (r, field)) in ctx.robots.iter().zip(fields.iter()).enumerate() {
+            for col in 0..c.m {
+                let Some(&node) = c.nodes.get(col) else {
+                    continue;
+                };
+                if let (Some(d), Some(row)) = (field.dist_at(node), c.cost.get_mut(j)) {
+                    if let Some(x) = row.get_mut(col) {
+                        *x = i64::from(d) + i64::from(r.eta);
+                    }
+                }
+            }
+        }
+        Ok(Some(c))
+    }
+
+    fn at(&self, j: usize, col: usize) -> i64 {
+        self.cost
+            .get(j)
+            .and_then(|r| r.get(col))
+            .copied()
+            .unwrap_or(INF)
+    }
+}
+
+/// Min-sum assignment of `k` rows to `m ≥ k` columns of `cost` (capped at
+/// `cap`: costlier pairs count as forbidden): the Hungarian algorithm with
+/// potentials, O(k²·m). Returns the column of each row, `None` where only a
+/// forbidden pair was left.
+fn hungarian(c: &Candidates, cap: i64) -> [Option<usize>; MAX_ROBOTS] {
+    let (n, m) = (c.k, c.m.max(c.k));
+    // 1-based arrays as in the textbook form; column 0 is the virtual one.
+    let mut u = [0i64; MAX_ROBOTS + 1];
+    let mut v = [0i64; MAX_CANDIDATES + MAX_ROBOTS + 1];
+    let mut p = [0usize; MAX_CANDIDATES + MAX_ROBOTS + 1];
+    let mut way = [0usize; MAX_CANDIDATES + MAX_ROBOTS + 1];
+    let cost = |i: usize, j: usize| -> i64 {
+        if j > c.m {
+            // Dummy columns when there are fewer candidates than robots.
+            return INF;
+        }
+        let x = c.at(i - 1, j - 1);
+        if x > cap { INF } else { x }
+    };
+    let get = |a: &[i64], i: usize| a.get(i).copied().unwrap_or(0);
+    for i in 1..=n {
+        if let Some(x) = p.get_mut(0) {
+            *x = i;
+        }
+        let mut j0 = 0usize;
+        let mut minv = [INF * 4; MAX_CANDIDATES + MAX_ROBOTS + 1];
+        let mut used = [false; MAX_CANDIDATES + MAX_ROBOTS + 1];
+        for _ in 0..=m {
+            if let Some(x) = used.get_mut(j0) {
+                *x = true;
+            }
+            let i0 = p.get(j0).copied().unwrap_or(0);
+            let mut delta = INF * 4;
+            let mut j1 = 0usize;
+            for j in 1..=m {
+                if used.get(j).copied().unwrap_or(true) {
+                    continue;
+                }
+                let cur = cost(i0, j) - get(&u, i0) - get(&v, j);
+                if cur < minv.get(j).copied().unwrap_or(0) {
+                    if let Some(x) = minv.get_mut(j) {
+                        *x = cur;
+                    }
+                    if let Some(x) = way.get_mut(j) {
+                        *x = j0;
+                    }
+                }
+                let mj = minv.get(j).copied().unwrap_or(0);
+                if mj < delta {
+                    delta = mj;
+                    j1 = j;
+                }
+            }
+            for j in 0..=m {
+                let pj = p.get(j).copied().unwrap_or(0);
+                if used.get(j).copied().unwrap_or(false) {
+                    if let Some(x) = u.get_mut(pj) {
+                        *x += delta;
+                    }
+                    if let Some(x) = v.get_mut(j) {
+                        *x -= delta;
+                    }
+                } else if let Some(x) = minv.get_mut(j) {
+                    *x -= delta;
+                }
+            }
+            j0 = j1;
+            if p.get(j0).copied().unwrap_or(0) == 0 {
+                break;
+            }
+        }
+        loop {
+            let j1 = way.get(j0).copied().unwrap_or(0);
+            let pj1 = p.get(j1).copied().unwrap_or(0);
+            if let Some(x) = p.get_mut(j0) {
+                *x = pj1;
+            }
+            j0 = j1;
+            if j0 == 0 {
+                break;
+            }
+        }
+    }
+    let mut out = [None; MAX_ROBOTS];
+    for j in 1..=m {
+        let i = p.get(j).copied().unwrap_or(0);
+        if i >= 1 && j <= c.m && cost(i, j) < INF {
+            if let Some(x) = out.get_mut(i - 1) {
+                *x = Some(j - 1);
+            }
+        }
+    }
+    out
+}
+
+/// The smallest threshold under which every row can still be matched, for
+/// the bottleneck (min-max) objective.
+fn bottleneck_threshold(c: &Candidates) -> i64 {
+    let mut vals = [INF; MAX_ROBOTS * MAX_CANDIDATES];
+    let mut n = 0usize;
+    for j in 0..c.k {
+        for col in 0..c.m {
+            let x = c.at(j, col);
+            if x < INF {
+                if let Some(s) = vals.get_mut(n) {
+                    *s = x;
+                    n += 1;
+                }
+            }
+        }
+    }
+    let Some(vals) = vals.get_mut(..n) else {
+        return INF;
+    };
+    vals.sort_unstable();
+    let full = hungarian(c, INF)
+        .iter()
+        .take(c.k)
+        .filter(|x| x.is_some())
+        .count();
+    let (mut lo, mut hi) = (0usize, n);
+    while lo < hi {
+        let mid = (lo + hi) / 2;
+        let cap = vals.get(mid).copied().unwrap_or(INF);
+        let got = hungarian(c, cap)
+            .iter()
+            .take(c.k)
+            .filter(|x| x.is_some())
+            .count();
+        if got >= full { hi = mid } else { lo = mid + 1 }
+    }
+    vals.get(lo).copied().unwrap_or(INF)
+}
+
+/// What an [`Assignment`] minimises.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum AssignmentObjective {
+    /// The sum of the robots' travel times (Hungarian).
+    MinSum,
+    /// The largest travel time, then the sum (bottleneck assignment).
+    MinMax,
+}
+
+/// Re-assigns every robot at every decision (Hungarian or bottleneck) and
+/// sends the deciding robot to its share. Robots left without a candidate
+/// take their nearest frontier node.
+#[derive(Clone, Copy, Debug)]
+pub struct Assignment {
+    /// The objective.
+    pub objective: AssignmentObjective,
+}
+
+impl Assignment {
+    /// The assigned frontier node of every robot, from fields computed for
+    /// the whole team (`fields[j]` holds robot `j`'s field afterwards).
+    pub(crate) fn assign<M, F>(
+        objective: AssignmentObjective,
+        ctx: &Context<'_, M>,
+        fields: &mut [DistField<F>],
+    ) -> Result<Option<[Option<usize>; MAX_ROBOTS]>, PlanError>
+    where
+        M: AsRef<[Block]> + AsMut<[Block]>,
+        F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+    {
+        let k = ctx.robots.len();
+        let Some(c) = Candidates::collect(ctx, fields, k)? else {
+            return Ok(None);
+        };
+        if c.m == 0 {
+            return Ok(Some([None; MAX_ROBOTS]));
+        }
+        let cap = match objective {
+            AssignmentObjective::MinSum => INF - 1,
+            AssignmentObjective::MinMax => bottleneck_threshold(&c),
+        };
+        let cols = hungarian(&c, cap);
+        let mut out = [None; MAX_ROBOTS];
+        for (o, col) in out.iter_mut().zip(cols.iter()) {
+            *o = col.and_then(|x| c.nodes.get(x).copied());
+        }
+        Ok(Some(out))
+    }
+}
+
+impl<M, F> Strategy<M, F> for Assignment
+where
+    M: AsRef<[Block]> + AsMut<[Block]>,
+    F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+{
+    fn name(&self) -> &'static str {
+        match self.objective {
+            AssignmentObjective::MinSum => "hungarian",
+            AssignmentObjective::MinMax => "bottleneck",
+        }
+    }
+
+    fn decide(
+        &mut self,
+        ctx: &Context<'_, M>,
+        fields: &mut [DistField<F>],
+    ) -> Result<Decision, PlanError> {
+        let me = ctx.me;
+        match Self::assign(self.objective, ctx, fields)? {
+            Some(a) => match (a.get(me).copied().flatten(), fields.get_mut(me)) {
+                (Some(i), Some(f)) => Ok(explore_decision(ctx, f, i)),
+                (None, Some(f)) => nearest_or_home(ctx, f),
+                (_, None) => Ok(Decision::STAY),
+            },
+            None => match fields.first_mut() {
+                Some(f) => nearest_or_home(ctx, f),
+                None => Ok(Decision::STAY),
+            },
+        }
+    }
+}
+
+/// Burgard et al.'s coordinated exploration in its greedy form: repeatedly
+/// give the (robot, frontier) pair with the least travel time plus the
+/// seed's cooperation penalty around targets already given, until every
+/// robot has one; the deciding robot takes its share.
+#[derive(Clone, Copy, Debug)]
+pub struct BurgardGreedy {
+    /// The utility discount around assigned targets (the seed's +5 … +1).
+    pub penalty: CooperationLayer,
+}
+
+impl Default for BurgardGreedy {
+    fn default() -> Self {
+        BurgardGreedy {
+            penalty: CooperationLayer { peak: 5, radius: 4 },
+        }
+    }
+}
+
+impl<M, F> Strategy<M, F> for BurgardGreedy
+where
+    M: AsRef<[Block]> + AsMut<[Block]>,
+    F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+{
+    fn name(&self) -> &'static str {
+        "burgard"
+    }
+
+    fn decide(
+        &mut self,
+        ctx: &Context<'_, M>,
+        fields: &mut [DistField<F>],
+    ) -> Result<Decision, PlanError> {
+        let k = ctx.robots.len();
+        let Some(c) = Candidates::collect(ctx, fields, MAX_CANDIDATES)? else {
+            return match fields.first_mut() {
+                Some(f) => nearest_or_home(ctx, f),
+                None => Ok(Decision::STAY),
+            };
+        };
+        let bounds = ctx.map.bounds();
+        let mut given: [Option<usize>; MAX_ROBOTS] = [None; MAX_ROBOTS];
+        let mut targets: [Option<Pos>; MAX_ROBOTS] = [None; MAX_ROBOTS];
+        for _ in 0..k {
+            let mut best: Option<(i64, usize, usize)> = None;
+            for j in 0..k {
+                if given.get(j).copied().flatten().is_some() {
+                    continue;
+                }
+                for col in 0..c.m {
+                    let d = c.at(j, col);
+                    if d >= INF {
+                        continue;
+                    }
+                    let Some(&node) = c.nodes.get(col) else {
+                        continue;
+                    };
+                    let p = bounds.pos(node);
+                    let mut pen = 0i64;
+                    for a in targets.iter().flatten() {
+                        let e = self.penalty.penalty_edges(p.manhattan(*a));
+                        if e > 0 && CooperationLayer::direct_route_open(ctx.map, *a, p) {
+                            pen += i64::from(e) * i64::from(ctx.timing.edge);
+                        }
+                    }
+                    let cand = (d + pen, node, j);
+                    if best.is_none_or(|b| cand < b) {
+                        best = Some(cand);
+                    }
+                }
+            }
+            let Some((_, node, j)) = best else { break };
+            if let Some(g) = given.get_mut(j) {
+                *g = Some(node);
+            }
+            if let Some(t) = targets.get_mut(j) {
+                *t = Some(bounds.pos(node));
+            }
+        }
+        let me = ctx.me;
+        match (given.get(me).copied().flatten(), fields.get_mut(me)) {
+            (Some(i), Some(f)) => Ok(explore_decision(ctx, f, i)),
+            (None, Some(f)) => {
+                if c.m == 0 {
+                    go_home(ctx, f)
+                } else {
+                    nearest_or_home(ctx, f)
+                }
+            }
+            (_, None) => Ok(Decision::STAY),
+        }
+    }
+}

@@ -1,0 +1,226 @@
+//! Where to go next: the seed's layered explorer and its rivals, behind one
+//! [`Strategy`] trait so that the simulator, the benchmark and the robot run
+//! exactly the same decision code.
+//!
+//! A robot standing on a node asks its strategy for a [`Decision`]: the goal
+//! (a frontier node, home, or nothing) and the heading to leave the node
+//! with. Every strategy costs moves with the one [`Timing`] through
+//! turn-aware [`DistField`]s, and every strategy sends the robot home when no
+//! frontier is reachable from where it stands (the 2010 code stalled there),
+//! so exploration always ends.
+//!
+//! ## Determinism
+//!
+//! Strategies hold no randomness. Where candidates cost the same, the one
+//! with the smaller storage index of the map window wins: the southernmost,
+//! then the westernmost node.
+
+use crate::geometry::{Heading, Pos};
+use crate::map::{Block, KnownMap};
+use crate::path::{DistField, Flow, PlanCell, PlanError};
+use crate::timing::{Ticks, Timing};
+
+mod assign;
+mod layers;
+mod minpos;
+mod nearest;
+mod tempo;
+
+pub use assign::{Assignment, AssignmentObjective, BurgardGreedy};
+pub use layers::{CooperationLayer, Layer, ResidualLayer, SeedConfig, SeedExplorer};
+pub use minpos::MinPos;
+pub use nearest::{GreedyClaim, NearestFrontier};
+pub use tempo::Tempo;
+
+/// The largest team a centralised strategy plans for at once. The seed plans
+/// for six robots; eight leaves room for the simulator's larger teams.
+pub const MAX_ROBOTS: usize = 8;
+
+/// What one robot of the team looks like to a deciding robot.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct RobotView {
+    /// The node the robot stands on, or is driving to.
+    pub pos: Pos,
+    /// Its heading there.
+    pub heading: Heading,
+    /// Ticks until it stands on `pos` (0 when it is there).
+    pub eta: Ticks,
+    /// Its start node, where it must end.
+    pub home: Pos,
+    /// The frontier node it last announced as its target, if any.
+    pub target: Option<Pos>,
+}
+
+/// Everything a strategy may look at: the shared knowledge of the team.
+pub struct Context<'a, M> {
+    /// The known map (the robots' maps agree in the node-level model).
+    pub map: &'a KnownMap<M>,
+    /// The one truth about timing.
+    pub timing: Timing,
+    /// The whole team, indexed by robot id.
+    pub robots: &'a [RobotView],
+    /// The deciding robot's index in `robots`; it stands on its `pos`.
+    pub me: usize,
+}
+
+impl<M> Context<'_, M> {
+    /// The deciding robot.
+    pub fn my(&self) -> Option<&RobotView> {
+        self.robots.get(self.me)
+    }
+}
+
+/// Where a decision sends the robot.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Goal {
+    /// Explore this frontier node (announced to the team).
+    Frontier(Pos),
+    /// Drive home: no reachable frontier is left for this robot.
+    Home,
+    /// At home with nothing reachable to explore: stay.
+    Done,
+}
+
+/// A strategy's answer: the goal and the first move towards it.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Decision {
+    /// The goal.
+    pub goal: Goal,
+    /// The heading to leave the current node with (turning first if it
+    /// differs from the robot's heading); `None` to stay.
+    pub next: Option<Heading>,
+}
+
+impl Decision {
+    /// Stay where you are.
+    pub const STAY: Decision = Decision {
+        goal: Goal::Done,
+        next: None,
+    };
+
+    /// The announced frontier target, if any.
+    pub fn target(&self) -> Option<Pos> {
+        match self.goal {
+            Goal::Frontier(p) => Some(p),
+            _ => None,
+        }
+    }
+}
+
+/// A way of choosing targets, compared by the benchmark on one simulator.
+///
+/// `fields` is planner scratch lent by the caller: decentralised strategies
+/// (the seed's, nearest frontier, greedy claim) use one field; centralised
+/// ones (assignment, MinPos) want one per robot and fall back to nearest
+/// frontier with fewer.
+pub trait Strategy<M, F> {
+    /// A short stable name for tables and the command line.
+    fn name(&self) -> &'static str;
+
+    /// The decision of robot `ctx.me`, which stands on a node.
+    fn decide(
+        &mut self,
+        ctx: &Context<'_, M>,
+        fields: &mut [DistField<F>],
+    ) -> Result<Decision, PlanError>;
+}
+
+/// Runs the field of robot `me` and picks the frontier node with the least
+/// `distance + extra(index, pos, distance)`, where `extra` returns `None` to
+/// exclude a node. Extras are never negative, so the search stops as soon
+/// as the distance alone exceeds the best total found (branch and bound):
+/// one partial field per decision, never one search per frontier.
+///
+/// Ties go to the smaller storage index. Returns the index and total.
+pub fn cheapest_frontier<M, F>(
+    ctx: &Context<'_, M>,
+    field: &mut DistField<F>,
+    mut extra: impl FnMut(usize, Pos, Ticks) -> Option<Ticks>,
+) -> Result<Option<(usize, Ticks)>, PlanError>
+where
+    M: AsRef<[Block]> + AsMut<[Block]>,
+    F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+{
+    let Some(me) = ctx.my() else {
+        return Ok(None);
+    };
+    let map = ctx.map;
+    let bounds = map.bounds();
+    let mut best: Option<(Ticks, usize)> = None;
+    field.compute(map, ctx.timing, me.pos, me.heading, |i, d| {
+        if best.is_some_and(|(b, _)| d > b) {
+            return Flow::Stop;
+        }
+        if map.is_frontier_at(i) {
+            if let Some(x) = extra(i, bounds.pos(i), d) {
+                let cand = (d.saturating_add(x), i);
+                if best.is_none_or(|b| cand < b) {
+                    best = Some(cand);
+                }
+            }
+        }
+        Flow::Continue
+    })?;
+    Ok(best.map(|(t, i)| (i, t)))
+}
+
+/// The decision to explore the frontier node `i` of `field` (computed from
+/// the deciding robot's pose).
+pub fn explore_decision<M, F>(ctx: &Context<'_, M>, field: &DistField<F>, i: usize) -> Decision
+where
+    M: AsRef<[Block]> + AsMut<[Block]>,
+    F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+{
+    let p = ctx.map.bounds().pos(i);
+    Decision {
+        goal: Goal::Frontier(p),
+        next: field.first_heading(ctx.map, i),
+    }
+}
+
+/// The decision to drive home (or to stay, when home or when home cannot be
+/// reached). Used by every strategy once no frontier is reachable.
+pub fn go_home<M, F>(ctx: &Context<'_, M>, field: &mut DistField<F>) -> Result<Decision, PlanError>
+where
+    M: AsRef<[Block]> + AsMut<[Block]>,
+    F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+{
+    let Some(me) = ctx.my() else {
+        return Ok(Decision::STAY);
+    };
+    if me.pos == me.home {
+        return Ok(Decision::STAY);
+    }
+    let Some(h) = ctx.map.bounds().index(me.home) else {
+        return Ok(Decision::STAY);
+    };
+    field.compute(ctx.map, ctx.timing, me.pos, me.heading, |i, _| {
+        if i == h { Flow::Stop } else { Flow::Continue }
+    })?;
+    Ok(match field.first_heading(ctx.map, h) {
+        Some(next) => Decision {
+            goal: Goal::Home,
+            next: Some(next),
+        },
+        None => Decision::STAY,
+    })
+}
+
+/// Nearest frontier for robot `me`, home when none is reachable: the common
+/// fallback.
+pub fn nearest_or_home<M, F>(
+    ctx: &Context<'_, M>,
+    field: &mut DistField<F>,
+) -> Result<Decision, PlanError>
+where
+    M: AsRef<[Block]> + AsMut<[Block]>,
+    F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+{
+    match cheapest_frontier(ctx, field, |_, _, _| Some(0))? {
+        Some((i, _)) => Ok(explore_decision(ctx, field, i)),
+        None => go_home(ctx, field),
+    }
+}
+
+#[cfg(test)]
+mod tests;

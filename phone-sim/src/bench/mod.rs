@@ -1,0 +1,327 @@
+//! `conquest bench`: every strategy on the same fields and robot counts,
+//! through the node-level model, against the lower bound.
+//!
+//! Why one runner: strategies can only be compared on one simulator, one
+//! timing and one completion rule. The runner writes the CSV (columns fixed
+//! by the issue), a markdown summary and an SVG plot of makespan / lower
+//! bound against team size, one line per strategy.
+
+pub mod bound;
+mod report;
+
+use crate::field::Field;
+use crate::field::generate::Kind;
+use crate::world::{self, DynStrategy, RunStats, Truth, WorldConfig};
+use core_algo::explore::{
+    Assignment, AssignmentObjective, BurgardGreedy, GreedyClaim, MinPos, NearestFrontier,
+    SeedExplorer, Tempo,
+};
+use core_algo::geometry::{Heading, Pos};
+use core_algo::timing::{DEFAULT_NODE_SPACING_MM, DEFAULT_SPEED_STEPS_PER_S, Ticks, Timing};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::PathBuf;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+pub use report::{csv, markdown, svg_plot};
+
+/// The strategies the benchmark knows, in table order, by name.
+pub const STRATEGIES: [&str; 8] = [
+    "nearest",
+    "claim",
+    "seed",
+    "burgard",
+    "hungarian",
+    "bottleneck",
+    "minpos",
+    "tempo",
+];
+
+/// A fresh strategy by name.
+pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
+    Some(match name {
+        "nearest" => Box::new(NearestFrontier),
+        "claim" => Box::new(GreedyClaim),
+        "seed" => Box::new(SeedExplorer::default()),
+        "burgard" => Box::new(BurgardGreedy::default()),
+        "hungarian" => Box::new(Assignment {
+            objective: AssignmentObjective::MinSum,
+        }),
+        "bottleneck" => Box::new(Assignment {
+            objective: AssignmentObjective::MinMax,
+        }),
+        "minpos" => Box::new(MinPos),
+        "tempo" => Box::new(Tempo),
+        _ => return None,
+    })
+}
+
+/// Arguments of `conquest bench`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct BenchArgs {
+    /// Field files (.sim, native, .map) or folders of them; default: the
+    /// generated maze, rooms, random and open fields of each `--sizes`.
+    pub inputs: Vec<PathBuf>,
+    /// Robot counts to run.
+    #[arg(long, value_delimiter = ',', default_values_t = [1usize, 2, 3, 4, 5, 6])]
+    pub robots: Vec<usize>,
+    /// Strategies to run (default: all).
+    #[arg(long, value_delimiter = ',')]
+    pub strategy: Vec<String>,
+    /// Side lengths of the generated fields.
+    #[arg(long, value_delimiter = ',', default_values_t = [32u16, 64])]
+    pub sizes: Vec<u16>,
+    /// Seed of the generated fields.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Node spacing in millimetres (sets the edge time).
+    #[arg(long, default_value_t = DEFAULT_NODE_SPACING_MM)]
+    pub spacing_mm: u32,
+    /// Write the CSV here instead of stdout.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+    /// Folder for the markdown table and the plot.
+    #[arg(long, default_value = "docs/results")]
+    pub out: PathBuf,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub jobs: Option<usize>,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// One field of the benchmark with its start poses.
+#[derive(Clone, Debug)]
+pub struct BenchField {
+    /// Name for the `map` column.
+    pub name: String,
+    /// The field.
+    pub truth: Truth,
+    /// Start poses; a run with k robots uses the first k.
+    pub starts: Vec<(Pos, Heading)>,
+}
+
+/// One row of results.
+#[derive(Clone, Debug)]
+pub struct Row {
+    /// Field name.
+    pub map: String,
+    /// Team size.
+    pub robots: usize,
+    /// Strategy name.
+    pub strategy: String,
+    /// The run's statistics.
+    pub stats: RunStats,
+    /// Lower bound with return, in edges.
+    pub lower_bound_edges: u64,
+    /// The edge time used.
+    pub timing: Timing,
+}
+
+impl Row {
+    /// Makespan in seconds.
+    pub fn makespan_s(&self) -> f64 {
+        Timing::seconds(u64::from(self.stats.makespan))
+    }
+
+    /// Lower bound in seconds (edge time only).
+    pub fn lower_bound_s(&self) -> f64 {
+        Timing::seconds(self.lower_bound_edges * u64::from(self.timing.edge))
+    }
+
+    /// makespan / lower bound in time.
+    pub fn ratio(&self) -> f64 {
+        self.makespan_s() / self.lower_bound_s().max(f64::MIN_POSITIVE)
+    }
+
+    /// busiest robot's edges / lower bound in edges.
+    pub fn edge_ratio(&self) -> f64 {
+        f64::from(self.stats.max_edges()) / (self.lower_bound_edges.max(1) as f64)
+    }
+}
+
+/// Runs every (field, robots, strategy) job, in parallel, in a
+/// deterministic output order.
+pub fn run_jobs(
+    fields: &[BenchField],
+    robots: &[usize],
+    strategies: &[String],
+    timing: Timing,
+    jobs: usize,
+    progress: bool,
+) -> Result<Vec<Row>, String> {
+    let mut list = Vec::new();
+    for (fi, f) in fields.iter().enumerate() {
+        for &k in robots {
+            if k == 0 || k > f.starts.len() {
+                continue;
+            }
+            let starts: Vec<Pos> = f.starts.iter().take(k).map(|s| s.0).collect();
+            let lb = bound::lower_bounds(&f.truth, &starts, k).with_return;
+            for s in strategies {
+                list.push((fi, k, s.clone(), lb));
+            }
+        }
+    }
+    let bar = if progress {
+        let b = ProgressBar::new(list.len() as u64);
+        b.set_style(
+            ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} {msg}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        b
+    } else {
+        ProgressBar::hidden()
+    };
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<Result<Row, String>>>> = Mutex::new(vec![None; list.len()]);
+    std::thread::scope(|scope| {
+        for _ in 0..jobs.max(1) {
+            scope.spawn(|| {
+                loop {
+                    let n = next.fetch_add(1, Ordering::Relaxed);
+                    let Some((fi, k, name, lb)) = list.get(n) else {
+                        break;
+                    };
+                    let f = &fields[*fi];
+                    let out = match strategy(name) {
+                        None => Err(format!("unknown strategy {name}")),
+                        Some(mut s) => world::run(
+                            &f.truth,
+                            &f.starts[..*k],
+                            s.as_mut(),
+                            WorldConfig {
+                                timing,
+                                ..WorldConfig::default()
+                            },
+                        )
+                        .map(|stats| Row {
+                            map: f.name.clone(),
+                            robots: *k,
+                            strategy: name.clone(),
+                            stats,
+                            lower_bound_edges: *lb,
+                            timing,
+                        })
+                        .map_err(|e| format!("{} k={k} {name}: {e}", f.name)),
+                    };
+                    bar.set_message(format!("{} k={k} {name}", f.name));
+                    bar.inc(1);
+                    if let Ok(mut r) = results.lock() {
+                        r[n] = Some(out);
+                    }
+                }
+            });
+        }
+    });
+    bar.finish_and_clear();
+    let results = results.into_inner().map_err(|e| e.to_string())?;
+    results
+        .into_iter()
+        .map(|r| r.unwrap_or_else(|| Err("job lost".into())))
+        .collect()
+}
+
+/// The project's generated default fields: maze, rooms, random and open of
+/// each size, with their six starts.
+pub fn default_fields(sizes: &[u16], seed: u64) -> Vec<BenchField> {
+    let mut out = Vec::new();
+    for &n in sizes {
+        for kind in Kind::ALL {
+            let f = kind.generate(n, n, seed);
+            out.push(BenchField::from_field(&f, format!("{}-{n}", kind.name())));
+        }
+    }
+    out
+}
+
+impl BenchField {
+    /// A benchmark field from a validated field.
+    pub fn from_field(f: &Field, name: String) -> BenchField {
+        BenchField {
+            name,
+            truth: Truth::new(f.nodes().iter().map(|(p, a)| (*p, *a))),
+            starts: f.starts().iter().map(|s| (s.pos, s.heading)).collect(),
+        }
+    }
+}
+
+/// `conquest bench`.
+pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
+    let timing = Timing::from_hardware(args.spacing_mm, DEFAULT_SPEED_STEPS_PER_S);
+    let strategies: Vec<String> = if args.strategy.is_empty() {
+        STRATEGIES.iter().map(|s| s.to_string()).collect()
+    } else {
+        args.strategy.clone()
+    };
+    for s in &strategies {
+        if strategy(s).is_none() {
+            return Err(format!("unknown strategy {s}; known: {}", STRATEGIES.join(",")).into());
+        }
+    }
+    let fields = if args.inputs.is_empty() {
+        default_fields(&args.sizes, args.seed)
+    } else {
+        load_inputs(&args.inputs)?
+    };
+    let jobs = args
+        .jobs
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let rows = run_jobs(
+        &fields,
+        &args.robots,
+        &strategies,
+        timing,
+        jobs,
+        !args.quiet,
+    )?;
+    let text = csv(&rows);
+    match &args.csv {
+        Some(p) => std::fs::write(p, &text)?,
+        None => print!("{text}"),
+    }
+    std::fs::create_dir_all(&args.out)?;
+    std::fs::write(args.out.join("bench.md"), markdown(&rows, &strategies))?;
+    std::fs::write(args.out.join("bench.svg"), svg_plot(&rows, &strategies))?;
+    Ok(())
+}
+
+/// Loads field files and the field files of folders (sorted by name).
+fn load_inputs(inputs: &[PathBuf]) -> Result<Vec<BenchField>, Box<dyn std::error::Error>> {
+    let mut files = Vec::new();
+    for p in inputs {
+        if p.is_dir() {
+            let mut inner: Vec<PathBuf> = std::fs::read_dir(p)?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|f| {
+                    f.extension()
+                        .and_then(|x| x.to_str())
+                        .is_some_and(|x| ["sim", "sep", "field", "map"].contains(&x))
+                })
+                .collect();
+            inner.sort();
+            files.extend(inner);
+        } else {
+            files.push(p.clone());
+        }
+    }
+    let mut out = Vec::new();
+    for f in files {
+        let field = crate::field::load(&f).map_err(|e| e.to_string())?;
+        let mut bf = BenchField::from_field(&field, field.name().to_string());
+        if bf.starts.is_empty() {
+            bf.starts = crate::field::default_starts(field.nodes(), 6)
+                .iter()
+                .map(|s| (s.pos, s.heading))
+                .collect();
+        }
+        out.push(bf);
+    }
+    Ok(out)
+}
+
+/// Ticks per edge of a timing, for reports.
+pub fn edge_ticks(t: Timing) -> Ticks {
+    t.edge
+}
