@@ -573,6 +573,19 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             .flatten()
     }
 
+    /// Whether the cheapest path to node `target` drives through node
+    /// `via` (the target counts, the start does not). Used to keep out of a
+    /// team mate's way home.
+    pub fn path_passes<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        target: usize,
+        via: usize,
+    ) -> bool {
+        let mut hit = false;
+        self.walk_back(map, target, |v, _| hit |= v == via) && hit
+    }
+
     /// Writes the nodes of the cheapest path to node `target` into `out`,
     /// start node first; returns their number, or `None` if `target` was
     /// not reached or `out` is too short.

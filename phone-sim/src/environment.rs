@@ -6,10 +6,10 @@
 //! (the simulation's or the server's) with no shared mutable state.
 
 use core_algo::geometry::{Arms, Pos};
-use core_algo::map::{blocks_for, Block, Bounds, KnownMap, MapError};
+use core_algo::map::{Block, Bounds, KnownMap, MapError, blocks_for};
+use core_algo::protocol::Pose;
 use core_algo::protocol::message::RobotState;
 use core_algo::protocol::resync::NodeLogEntry;
-use core_algo::protocol::Pose;
 use core_algo::team::RobotId;
 use std::sync::mpsc;
 
@@ -135,7 +135,9 @@ impl Environment {
         Environment {
             map,
             log: Vec::new(),
-            robots: (0..robots).map(|i| RobotInfo::new(RobotId(i as u8))).collect(),
+            robots: (0..robots)
+                .map(|i| RobotInfo::new(RobotId(i as u8)))
+                .collect(),
             stats: Statistics::default(),
             subscribers: Vec::new(),
             finished_at: None,
@@ -244,8 +246,16 @@ impl Environment {
             }
         });
         if ok {
-            self.log.push(NodeLogEntry { origin: id, pose, arms });
-            self.publish(Update::Node { pos: pose.pos, arms, visits });
+            self.log.push(NodeLogEntry {
+                origin: id,
+                pose,
+                arms,
+            });
+            self.publish(Update::Node {
+                pos: pose.pos,
+                arms,
+                visits,
+            });
             let known = self.known_nodes();
             self.stats.coverage.push((self.now, known));
         }
@@ -260,7 +270,10 @@ impl Environment {
 
     /// Marks the team done at `now` once every robot finished or failed.
     pub fn check_finished(&mut self) {
-        if self.finished_at.is_none() && !self.robots.is_empty() && self.robots.iter().all(|r| r.finished || r.failed) {
+        if self.finished_at.is_none()
+            && !self.robots.is_empty()
+            && self.robots.iter().all(|r| r.finished || r.failed)
+        {
             self.finished_at = Some(self.now);
             self.publish(Update::Finished { at_ms: self.now });
         }

@@ -8,8 +8,8 @@
 //! other robot's node hits and intents).
 
 use crate::environment::Environment;
-use core_algo::protocol::message::{Broadcast, RobotState};
 use core_algo::protocol::Message;
+use core_algo::protocol::message::{Broadcast, RobotState};
 use core_algo::team::RobotId;
 
 /// Who gets a relayed message.
@@ -51,7 +51,9 @@ pub struct Chain {
 impl Chain {
     /// An empty chain (everything is unhandled).
     pub fn new() -> Self {
-        Chain { handlers: Vec::new() }
+        Chain {
+            handlers: Vec::new(),
+        }
     }
 
     /// The phone side's standard handlers.
@@ -71,11 +73,19 @@ impl Chain {
     }
 
     /// Passes `msg` down the chain; returns whether a handler took it.
-    pub fn dispatch(&mut self, env: &mut Environment, msg: &Inbound<'_>, relay: &mut Relay) -> bool {
+    pub fn dispatch(
+        &mut self,
+        env: &mut Environment,
+        msg: &Inbound<'_>,
+        relay: &mut Relay,
+    ) -> bool {
         env.stats_mut().received += 1;
         if env.robot(msg.from).is_none() {
             env.stats_mut().unknown_robots += 1;
-            env.log_line(format!("message from unknown robot {}: {:?}", msg.from, msg.message));
+            env.log_line(format!(
+                "message from unknown robot {}: {:?}",
+                msg.from, msg.message
+            ));
             return false;
         }
         env.update_robot(msg.from, |r| r.messages += 1);
@@ -101,11 +111,19 @@ pub struct NodeHitHandler;
 
 impl Handler for NodeHitHandler {
     fn handle(&mut self, env: &mut Environment, msg: &Inbound<'_>, relay: &mut Relay) -> bool {
-        let Message::NodeHit { pose, arms } = msg.message else { return false };
+        let Message::NodeHit { pose, arms } = msg.message else {
+            return false;
+        };
         if env.node_hit(msg.from, *pose, *arms) {
             relay.out.push((
                 Recipients::AllBut(msg.from),
-                Message::Relayed { origin: msg.from, broadcast: Broadcast::NodeHit { pose: *pose, arms: *arms } },
+                Message::Relayed {
+                    origin: msg.from,
+                    broadcast: Broadcast::NodeHit {
+                        pose: *pose,
+                        arms: *arms,
+                    },
+                },
             ));
         }
         true
@@ -117,11 +135,16 @@ pub struct IntentHandler;
 
 impl Handler for IntentHandler {
     fn handle(&mut self, env: &mut Environment, msg: &Inbound<'_>, relay: &mut Relay) -> bool {
-        let Message::Intent { target } = msg.message else { return false };
+        let Message::Intent { target } = msg.message else {
+            return false;
+        };
         env.update_robot(msg.from, |r| r.target = *target);
         relay.out.push((
             Recipients::AllBut(msg.from),
-            Message::Relayed { origin: msg.from, broadcast: Broadcast::Intent { target: *target } },
+            Message::Relayed {
+                origin: msg.from,
+                broadcast: Broadcast::Intent { target: *target },
+            },
         ));
         true
     }
@@ -182,7 +205,10 @@ impl Handler for EventHandler {
             }
             Message::Ack { .. } => true,
             Message::Reject { command, reason } => {
-                env.log_line(format!("robot {} refused command {command}: {reason:?}", msg.from));
+                env.log_line(format!(
+                    "robot {} refused command {command}: {reason:?}",
+                    msg.from
+                ));
                 true
             }
             Message::Calibrated(c) => {
@@ -199,7 +225,9 @@ pub struct BroadcastHandler;
 
 impl Handler for BroadcastHandler {
     fn handle(&mut self, env: &mut Environment, msg: &Inbound<'_>, relay: &mut Relay) -> bool {
-        let Message::Relayed { origin, broadcast } = msg.message else { return false };
+        let Message::Relayed { origin, broadcast } = msg.message else {
+            return false;
+        };
         if *origin != msg.from {
             // A robot may only speak for itself.
             return false;
@@ -212,7 +240,9 @@ impl Handler for BroadcastHandler {
             env.log_line(format!("robot {} failed: {kind:?}", msg.from));
             env.check_finished();
         }
-        relay.out.push((Recipients::AllBut(msg.from), msg.message.clone()));
+        relay
+            .out
+            .push((Recipients::AllBut(msg.from), msg.message.clone()));
         true
     }
 }

@@ -10,6 +10,7 @@
 pub mod bench;
 pub mod cli;
 pub mod environment;
+pub mod explore_cmd;
 pub mod field;
 pub mod handlers;
 pub mod proxy;

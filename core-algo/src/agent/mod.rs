@@ -32,7 +32,7 @@
 use crate::explore::{Context, Decision, Goal, MAX_ROBOTS, RobotView, Strategy};
 use crate::geometry::{Arms, Heading, Pos, Turn};
 use crate::map::{Block, KnownMap, MapError};
-use crate::path::{DistField, PlanCell};
+use crate::path::{DistField, Flow, PlanCell};
 use crate::team::RobotId;
 use crate::timing::{TICK_MS, Ticks, Timing};
 use heapless::Vec;
@@ -133,6 +133,12 @@ pub enum Event {
     Collision,
     /// The robot refused the last command.
     Rejected,
+    /// Standing still, the robot saw another robot come close from
+    /// `toward` and turn back: it stands in someone's way.
+    Bumped {
+        /// Where the other robot came from.
+        toward: Heading,
+    },
     /// News about another robot.
     Peer(RobotId, PeerNews),
     /// An order from the person steering.
@@ -232,11 +238,15 @@ const NO_PEER: Peer = Peer {
 };
 
 /// The robot's brain; see the module docs.
-pub struct Agent<M, F, S> {
+///
+/// `K` planner fields: one is enough for decentralised strategies (the
+/// firmware's choice, 16 bytes per node each); centralised ones (assignment,
+/// tempo) plan for the whole team and want one per robot.
+pub struct Agent<M, F, S, const K: usize> {
     id: RobotId,
     config: AgentConfig,
     map: KnownMap<M>,
-    field: [DistField<F>; 1],
+    fields: [DistField<F>; K],
     strategy: S,
     mode: Mode,
     motion: Motion,
@@ -247,6 +257,9 @@ pub struct Agent<M, F, S> {
     peers: [Peer; MAX_ROBOTS],
     retries: u8,
     rejects: u8,
+    escaping: bool,
+    yielding: bool,
+    gated_since: Option<Millis>,
     finished_sent: bool,
     map_grew: bool,
     now: Millis,
@@ -254,20 +267,26 @@ pub struct Agent<M, F, S> {
     ignored: u32,
 }
 
-impl<M, F, S> Agent<M, F, S>
+impl<M, F, S, const K: usize> Agent<M, F, S, K>
 where
     M: AsRef<[Block]> + AsMut<[Block]>,
     F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
     S: Strategy<M, F>,
 {
     /// An idle agent for robot `id` with an empty `map` (its window must hold
-    /// the field), planner scratch `field` and a strategy.
-    pub fn new(id: RobotId, map: KnownMap<M>, field: DistField<F>, strategy: S, config: AgentConfig) -> Self {
+    /// the field), planner scratch `fields` and a strategy.
+    pub fn new(
+        id: RobotId,
+        map: KnownMap<M>,
+        fields: [DistField<F>; K],
+        strategy: S,
+        config: AgentConfig,
+    ) -> Self {
         Agent {
             id,
             config,
             map,
-            field: [field],
+            fields,
             strategy,
             mode: Mode::Idle,
             motion: Motion::Standing,
@@ -278,6 +297,9 @@ where
             peers: [NO_PEER; MAX_ROBOTS],
             retries: 0,
             rejects: 0,
+            escaping: false,
+            yielding: false,
+            gated_since: None,
             finished_sent: false,
             map_grew: false,
             now: 0,
@@ -336,6 +358,7 @@ where
             Event::NodeHit { relative } => self.on_node(relative, &mut out),
             Event::Collision => self.on_collision(&mut out),
             Event::Rejected => self.on_rejected(&mut out),
+            Event::Bumped { toward } => self.on_bumped(toward, &mut out),
             Event::Peer(id, news) => self.on_peer(id, news, &mut out),
             Event::Manual(order) => self.on_manual(order, &mut out),
             Event::Tick => self.on_tick(&mut out),
@@ -343,13 +366,21 @@ where
         if result.is_err() {
             self.ignored = self.ignored.saturating_add(1);
         }
-        if out.iter().any(|c| matches!(c, Command::Report { .. } | Command::Announce { .. })) {
+        if out
+            .iter()
+            .any(|c| matches!(c, Command::Report { .. } | Command::Announce { .. }))
+        {
             self.last_said = now;
         }
         result.map(|()| out)
     }
 
-    fn on_start(&mut self, pos: Pos, heading: Heading, out: &mut Commands) -> Result<(), AgentError> {
+    fn on_start(
+        &mut self,
+        pos: Pos,
+        heading: Heading,
+        out: &mut Commands,
+    ) -> Result<(), AgentError> {
         if self.mode != Mode::Idle {
             return Err(AgentError::Unexpected);
         }
@@ -374,6 +405,7 @@ where
         }
         let arms = Arms::from_relative(relative, self.heading);
         self.motion = Motion::Standing;
+        let escaped = core::mem::take(&mut self.escaping);
         self.retries = 0;
         match self.map.visit(self.pos, arms, self.id) {
             Ok(_) => {}
@@ -396,7 +428,20 @@ where
                 heading: self.heading,
             },
         );
-        self.decide(out);
+        if escaped {
+            // Leave the other robots time to get home first: wait until
+            // every living teammate reported being home, or a time-out
+            // that differs by id so that two robots that both made way do
+            // not come back together.
+            let edge_ms = self.config.timing.edge.saturating_mul(TICK_MS);
+            let edges = 6 + 4 * u32::from(self.id.0 % 8);
+            self.yielding = true;
+            self.motion = Motion::Waiting {
+                until: self.now.wrapping_add(edge_ms.saturating_mul(edges)),
+            };
+        } else {
+            self.decide(out);
+        }
         Ok(())
     }
 
@@ -413,6 +458,46 @@ where
             until: self.now.wrapping_add(wait),
         };
         let _ = out;
+        Ok(())
+    }
+
+    /// Makes way: a robot standing idle on someone's route (typically at
+    /// home, where another robot's way home may lead through) drives one
+    /// edge away from the other robot, waits, and plans again.
+    fn on_bumped(&mut self, toward: Heading, out: &mut Commands) -> Result<(), AgentError> {
+        if !self.is_standing()
+            || !matches!(self.mode, Mode::Explore | Mode::Return | Mode::Finished)
+        {
+            return Err(AgentError::Unexpected);
+        }
+        if self.mode == Mode::Finished {
+            // Someone still moves: we were wrong that the team is done.
+            self.mode = Mode::Return;
+            self.finished_sent = false;
+        }
+        let occupied = |p: Pos| {
+            self.peers
+                .iter()
+                .any(|q| q.known && !q.failed && q.pos == p)
+        };
+        let candidates = [
+            toward.opposite(),
+            toward.turned(Turn::Right),
+            toward.turned(Turn::Left),
+        ];
+        let escape = candidates
+            .into_iter()
+            .filter(|h| self.can_move(*h))
+            .min_by_key(|h| self.pos.step(*h).is_some_and(occupied));
+        let Some(h) = escape else {
+            return Err(AgentError::Unexpected);
+        };
+        self.escaping = true;
+        if let Some(t) = self.heading.turn_to(h) {
+            self.heading = h;
+            push(out, Command::Turn(t));
+        }
+        self.start_move(out);
         Ok(())
     }
 
@@ -434,7 +519,12 @@ where
         Ok(())
     }
 
-    fn on_peer(&mut self, id: RobotId, news: PeerNews, out: &mut Commands) -> Result<(), AgentError> {
+    fn on_peer(
+        &mut self,
+        id: RobotId,
+        news: PeerNews,
+        out: &mut Commands,
+    ) -> Result<(), AgentError> {
         if id == self.id {
             return Err(AgentError::Unexpected);
         }
@@ -541,9 +631,13 @@ where
             }
         }
         let manual = self.mode == Mode::Manual;
+        if self.yielding && matches!(self.motion, Motion::Waiting { .. }) && self.peers_home() {
+            self.motion = Motion::Waiting { until: now };
+        }
         match self.motion {
             Motion::Waiting { until } if now.wrapping_sub(until) < u32::MAX / 2 => {
                 self.motion = Motion::Standing;
+                self.yielding = false;
                 if !manual {
                     self.decide(out);
                 }
@@ -557,9 +651,18 @@ where
         // A robot standing still says nothing; a keep-alive tells the team
         // it is alive, so that it is not taken for failed.
         let quiet = now.wrapping_sub(self.last_said);
-        if self.is_standing() && !matches!(self.mode, Mode::Idle | Mode::Error) && quiet > timeout / 3 && quiet < u32::MAX / 2 {
+        if self.is_standing()
+            && !matches!(self.mode, Mode::Idle | Mode::Error)
+            && quiet > timeout / 3
+            && quiet < u32::MAX / 2
+        {
             self.last_said = now;
-            push(out, Command::Announce { target: self.target });
+            push(
+                out,
+                Command::Announce {
+                    target: self.target,
+                },
+            );
         }
         self.check_finished(out);
         Ok(())
@@ -625,8 +728,14 @@ where
         };
         let decision = self
             .strategy
-            .decide(&ctx, &mut self.field)
+            .decide(&ctx, &mut self.fields)
             .unwrap_or(Decision::STAY);
+        let decision = if matches!(decision.goal, Goal::Home | Goal::Done) && self.map.is_complete()
+        {
+            self.keep_out_of_the_way(decision)
+        } else {
+            decision
+        };
         let target = decision.target();
         if target != self.target {
             self.target = target;
@@ -642,6 +751,13 @@ where
             }
         }
         let Some(h) = decision.next else {
+            if self.pos != self.home && self.mode == Mode::Return {
+                // Held back (or home unreachable for now): look again soon.
+                let edge_ms = self.config.timing.edge.saturating_mul(TICK_MS);
+                self.motion = Motion::Waiting {
+                    until: self.now.wrapping_add(edge_ms),
+                };
+            }
             self.check_finished(out);
             return;
         };
@@ -658,6 +774,87 @@ where
                 push(out, Command::Turn(t));
                 self.start_move(out);
             }
+        }
+    }
+
+    /// Homecoming without deadlock: robots cannot pass each other on a
+    /// line, so a robot whose home lies on a returning team mate's way home
+    /// waits off every returning team mate's way, as near to its home as it
+    /// can, until they are in. Needs one planner field per team mate
+    /// (`K > 1`); with a single field the decision is kept as it is.
+    fn keep_out_of_the_way(&mut self, decision: Decision) -> Decision {
+        let bounds = self.map.bounds();
+        let Some(my_home) = bounds.index(self.home) else {
+            return decision;
+        };
+        let me = self.id.index();
+        let (timing, pos, heading) = (self.config.timing, self.pos, self.heading);
+        let map = &self.map;
+        let Some((mine, rest)) = self.fields.split_first_mut() else {
+            return decision;
+        };
+        // (field in `rest`, peer home index, peer goes first) of every
+        // returning team mate.
+        let mut pending: Vec<(usize, usize, bool), MAX_ROBOTS> = Vec::new();
+        let mut homes: Vec<Pos, MAX_ROBOTS> = Vec::new();
+        for (i, p) in self.peers.iter().enumerate() {
+            if i == me || !p.known || p.failed {
+                continue;
+            }
+            let _ = homes.push(p.home);
+            let slot = pending.len();
+            let (false, Some(h), Some(field)) =
+                (p.pos == p.home, bounds.index(p.home), rest.get_mut(slot))
+            else {
+                continue;
+            };
+            // A total order (by id), so that robots never wait for each
+            // other in a circle; a lower id whose way home is blocked by a
+            // higher id already home is handled by making way.
+            let first = i < me;
+            let result = field.compute(map, timing, p.pos, p.heading, |v, _| {
+                if v == h { Flow::Stop } else { Flow::Continue }
+            });
+            if result.is_ok() {
+                let _ = pending.push((slot, h, first));
+            }
+        }
+        let rest = &*rest;
+        let on_way = |v: usize, only_first: bool| {
+            pending
+                .iter()
+                .filter(|e| e.2 || !only_first)
+                .any(|&(s, h, _)| rest.get(s).is_some_and(|f| f.path_passes(map, h, v)))
+        };
+        let on_someones_way = |v: usize| on_way(v, false);
+        let gated = on_way(my_home, true);
+        // Never wait for ever: after a while, go and let the make-way
+        // behaviour sort it out.
+        let now = self.now;
+        let since = *self.gated_since.get_or_insert(now);
+        let patience = timing.edge.saturating_mul(TICK_MS).saturating_mul(40);
+        if !gated || now.wrapping_sub(since) > patience {
+            if !gated {
+                self.gated_since = None;
+            }
+            return decision;
+        }
+        // Gated: find the nearest node off every returning robot's way that
+        // is nobody's home, and go there (or stay, if here).
+        let mut spot = None;
+        let computed = mine.compute(map, timing, pos, heading, |v, _| {
+            if v != my_home && !homes.contains(&bounds.pos(v)) && !on_someones_way(v) {
+                spot = Some(v);
+                return Flow::Stop;
+            }
+            Flow::Continue
+        });
+        match (computed, spot) {
+            (Ok(()), Some(v)) => Decision {
+                goal: Goal::Home,
+                next: mine.first_heading(map, v),
+            },
+            _ => Decision::STAY,
         }
     }
 
@@ -682,13 +879,16 @@ where
     /// Every living teammate is home (as far as we know) and nothing is
     /// left to explore.
     fn team_done(&self) -> bool {
-        self.map.is_complete()
-            && self
-                .peers
-                .iter()
-                .enumerate()
-                .filter(|(i, p)| *i != self.id.index() && p.known && !p.failed)
-                .all(|(_, p)| p.pos == p.home)
+        self.map.is_complete() && self.peers_home()
+    }
+
+    /// Every living teammate reported being on its home node.
+    fn peers_home(&self) -> bool {
+        self.peers
+            .iter()
+            .enumerate()
+            .filter(|(i, p)| *i != self.id.index() && p.known && !p.failed)
+            .all(|(_, p)| p.pos == p.home)
     }
 
     fn backoff(&self) -> Millis {

@@ -2,7 +2,7 @@
 //! through the `serialport` crate, speaking the framed protocol.
 
 use super::{LinkEnd, ProxyEvent, ProxyStats, RobotProxy};
-use core_algo::protocol::{LinkConfig, Message, MAX_FRAME_LEN};
+use core_algo::protocol::{LinkConfig, MAX_FRAME_LEN, Message};
 use core_algo::team::RobotId;
 use std::io::{Read, Write};
 use std::time::Duration;

@@ -3,7 +3,7 @@
 
 use super::{LinkEnd, ProxyEvent, ProxyStats, RobotProxy};
 use crate::sim::channel::{Channel, ChannelFaults, ChannelStats};
-use core_algo::protocol::{LinkConfig, Message, MAX_FRAME_LEN};
+use core_algo::protocol::{LinkConfig, MAX_FRAME_LEN, Message};
 use core_algo::team::RobotId;
 
 /// The proxy of a robot in the simulator.

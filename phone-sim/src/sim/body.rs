@@ -13,6 +13,7 @@
 //! - **At a node**: a body arriving at a node another body occupies (standing,
 //!   turning, dead, or arrived earlier) turns back and reports a collision
 //!   on the node it left.
+//! - A dead robot is lifted off the field and blocks nobody.
 //! - **No line**: a move along an arm the node does not have finds no line:
 //!   the body stays and reports an abyss (the field's border).
 
@@ -45,15 +46,33 @@ pub enum Report {
     Collision,
     /// No line ahead; stayed.
     Abyss,
+    /// Standing on a node, its proximity sensors saw another robot come
+    /// close from `toward` and turn back (the passive side of a collision).
+    Bumped {
+        /// Where the other robot came from, global frame.
+        toward: Heading,
+    },
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 enum Action {
     Idle,
-    Turning { until: u32 },
-    Scanning { until: u32 },
-    Driving { from: Pos, to: Pos, depart: u32, arrive: u32 },
-    Returning { to: Pos, arrive: u32 },
+    Turning {
+        until: u32,
+    },
+    Scanning {
+        until: u32,
+    },
+    Driving {
+        from: Pos,
+        to: Pos,
+        depart: u32,
+        arrive: u32,
+    },
+    Returning {
+        to: Pos,
+        arrive: u32,
+    },
 }
 
 /// Counters of one body.
@@ -67,6 +86,8 @@ pub struct BodyStats {
     pub collisions: u32,
     /// Arrivals at a node this body had already visited.
     pub revisits: u32,
+    /// Moves ordered along an arm the node does not have.
+    pub abysses: u32,
 }
 
 /// One robot's body.
@@ -99,8 +120,14 @@ impl Body {
     /// Where it is in between nodes, as (from, to, fraction 0..=1) at `now`.
     pub fn between(&self, now: u32) -> Option<(Pos, Pos, f64)> {
         match self.action {
-            Action::Driving { from, to, depart, arrive } => {
-                let f = f64::from(now.saturating_sub(depart)) / f64::from(arrive.saturating_sub(depart).max(1));
+            Action::Driving {
+                from,
+                to,
+                depart,
+                arrive,
+            } => {
+                let f = f64::from(now.saturating_sub(depart))
+                    / f64::from(arrive.saturating_sub(depart).max(1));
                 Some((from, to, f.clamp(0.0, 1.0)))
             }
             _ => None,
@@ -109,16 +136,18 @@ impl Body {
 
     /// The node the body blocks for others: where it stands, or the nearer
     /// end of its edge.
-    fn occupied(&self, now: u32) -> Option<Pos> {
+    fn occupied(&self) -> Option<Pos> {
         match self.action {
+            _ if !self.alive => None,
             Action::Idle | Action::Turning { .. } | Action::Scanning { .. } => Some(self.pos),
-            Action::Driving { from, to, depart, arrive } if !self.alive => {
-                Some(if now.saturating_sub(depart) * 2 >= arrive.saturating_sub(depart) { to } else { from })
-            }
-            Action::Returning { to, .. } if !self.alive => Some(to),
             _ => None,
         }
     }
+}
+
+/// The heading from `a` to its lattice neighbour `b`.
+fn from_heading(a: Pos, b: Pos) -> Option<Heading> {
+    Heading::ALL.into_iter().find(|h| a.step(*h) == Some(b))
 }
 
 /// All bodies on the true field.
@@ -145,7 +174,11 @@ impl Bodies {
                 visited: [pos].into_iter().collect(),
             })
             .collect();
-        Bodies { truth, timing, bodies }
+        Bodies {
+            truth,
+            timing,
+            bodies,
+        }
     }
 
     /// The bodies, indexed by robot id.
@@ -168,7 +201,8 @@ impl Bodies {
         self.truth.get(&p).copied()
     }
 
-    /// The body stops working at `now` (it stays where it is, in the way).
+    /// The body stops working. A person lifts a dead robot off the field,
+    /// so it no longer blocks anyone.
     pub fn kill(&mut self, id: RobotId) {
         if let Some(b) = self.bodies.get_mut(id.index()) {
             b.alive = false;
@@ -184,8 +218,16 @@ impl Bodies {
     }
 
     /// Queues an order; it starts at once if the body is idle.
-    pub fn order(&mut self, id: RobotId, order: Order, now: u32, reports: &mut Vec<(RobotId, Report)>) {
-        let Some(b) = self.bodies.get_mut(id.index()) else { return };
+    pub fn order(
+        &mut self,
+        id: RobotId,
+        order: Order,
+        now: u32,
+        reports: &mut Vec<(RobotId, Report)>,
+    ) {
+        let Some(b) = self.bodies.get_mut(id.index()) else {
+            return;
+        };
         if !b.alive {
             return;
         }
@@ -233,7 +275,9 @@ impl Bodies {
 
     fn finish(&mut self, i: usize, t: u32, reports: &mut Vec<(RobotId, Report)>) {
         let id = RobotId(i as u8);
-        let Some(action) = self.bodies.get(i).map(|b| b.action) else { return };
+        let Some(action) = self.bodies.get(i).map(|b| b.action) else {
+            return;
+        };
         match action {
             Action::Idle => {}
             Action::Turning { .. } => {
@@ -245,20 +289,33 @@ impl Bodies {
                 if let Some(b) = self.bodies.get_mut(i) {
                     b.action = Action::Idle;
                     let arms = self.truth.get(&b.pos).copied().unwrap_or_default();
-                    reports.push((id, Report::NodeHit { relative: arms.to_relative(b.heading) }));
+                    reports.push((
+                        id,
+                        Report::NodeHit {
+                            relative: arms.to_relative(b.heading),
+                        },
+                    ));
                 }
             }
             Action::Driving { from, to, .. } => {
-                let blocked = self
+                let blocker = self
                     .bodies
                     .iter()
                     .enumerate()
-                    .any(|(j, o)| j != i && o.occupied(t) == Some(to));
+                    .find(|(j, o)| *j != i && o.occupied() == Some(to))
+                    .map(|(j, o)| (j, o.alive && o.is_idle()));
+                let blocked = blocker.is_some();
+                if let (Some((j, true)), Some(toward)) = (blocker, from_heading(to, from)) {
+                    reports.push((RobotId(j as u8), Report::Bumped { toward }));
+                }
                 let edge = self.edge_ms();
                 if let Some(b) = self.bodies.get_mut(i) {
                     if blocked {
                         b.heading = b.heading.opposite();
-                        b.action = Action::Returning { to: from, arrive: t + edge };
+                        b.action = Action::Returning {
+                            to: from,
+                            arrive: t + edge,
+                        };
                     } else {
                         b.pos = to;
                         b.action = Action::Idle;
@@ -267,7 +324,12 @@ impl Bodies {
                             b.stats.revisits += 1;
                         }
                         let arms = self.truth.get(&to).copied().unwrap_or_default();
-                        reports.push((id, Report::NodeHit { relative: arms.to_relative(b.heading) }));
+                        reports.push((
+                            id,
+                            Report::NodeHit {
+                                relative: arms.to_relative(b.heading),
+                            },
+                        ));
                     }
                 }
             }
@@ -305,13 +367,17 @@ impl Bodies {
                     b.heading = heading.turned(t);
                     let q = if t == Turn::UTurn { 2 } else { 1 };
                     b.stats.quarter_turns += q;
-                    b.action = Action::Turning { until: now + quarter * q };
+                    b.action = Action::Turning {
+                        until: now + quarter * q,
+                    };
                 }
             }
             Order::Scan => {
                 if let Some(b) = self.bodies.get_mut(i) {
                     b.stats.quarter_turns += 4;
-                    b.action = Action::Scanning { until: now + quarter * 4 };
+                    b.action = Action::Scanning {
+                        until: now + quarter * 4,
+                    };
                 }
             }
             Order::Move => {
@@ -319,32 +385,53 @@ impl Bodies {
                 let Some(to) = pos.step(heading).filter(|_| arms.has(heading)) else {
                     if let Some(b) = self.bodies.get_mut(i) {
                         b.queue.clear();
+                        b.stats.abysses += 1;
                     }
                     reports.push((RobotId(i as u8), Report::Abyss));
                     return;
                 };
                 // Head-on: someone drives this edge the other way.
-                let oncoming = self.bodies.iter().enumerate().find_map(|(j, o)| match o.action {
-                    Action::Driving { from, to: oto, depart, arrive } if j != i && from == to && oto == pos && arrive > now => {
-                        Some((j, depart))
-                    }
-                    _ => None,
-                });
+                let oncoming = self
+                    .bodies
+                    .iter()
+                    .enumerate()
+                    .find_map(|(j, o)| match o.action {
+                        Action::Driving {
+                            from,
+                            to: oto,
+                            depart,
+                            arrive,
+                        } if j != i && from == to && oto == pos && arrive > now => {
+                            Some((j, depart))
+                        }
+                        _ => None,
+                    });
                 if let Some((j, their_depart)) = oncoming {
                     // Positions along the edge meet at t = (E + d_me + d_them) / 2.
                     let meet = (edge + now + their_depart) / 2;
                     if let Some(o) = self.bodies.get_mut(j) {
                         o.heading = o.heading.opposite();
-                        o.action = Action::Returning { to, arrive: meet + (meet - their_depart) };
+                        o.action = Action::Returning {
+                            to,
+                            arrive: meet + (meet - their_depart),
+                        };
                     }
                     if let Some(b) = self.bodies.get_mut(i) {
                         b.heading = heading.opposite();
-                        b.action = Action::Returning { to: pos, arrive: meet + (meet - now) };
+                        b.action = Action::Returning {
+                            to: pos,
+                            arrive: meet + (meet - now),
+                        };
                     }
                     return;
                 }
                 if let Some(b) = self.bodies.get_mut(i) {
-                    b.action = Action::Driving { from: pos, to, depart: now, arrive: now + edge };
+                    b.action = Action::Driving {
+                        from: pos,
+                        to,
+                        depart: now,
+                        arrive: now + edge,
+                    };
                 }
             }
         }

@@ -7,8 +7,8 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use std::collections::BinaryHeap;
 use std::cmp::Reverse;
+use std::collections::BinaryHeap;
 
 /// How a channel misbehaves.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -113,7 +113,9 @@ impl Channel {
             } else {
                 0
             };
-            let at = now.saturating_add(self.faults.latency_ms).saturating_add(jitter);
+            let at = now
+                .saturating_add(self.faults.latency_ms)
+                .saturating_add(jitter);
             self.seq += 1;
             self.in_flight.push(Reverse((at, self.seq, data)));
         }
@@ -122,7 +124,9 @@ impl Channel {
     /// Takes the next transmission due by `now`.
     pub fn receive(&mut self, now: u32) -> Option<Vec<u8>> {
         match self.in_flight.peek() {
-            Some(Reverse((at, _, _))) if *at <= now => self.in_flight.pop().map(|Reverse((_, _, d))| d),
+            Some(Reverse((at, _, _))) if *at <= now => {
+                self.in_flight.pop().map(|Reverse((_, _, d))| d)
+            }
             _ => None,
         }
     }

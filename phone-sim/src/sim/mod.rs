@@ -26,10 +26,10 @@ use core_algo::agent::AgentConfig;
 use core_algo::geometry::Pos;
 use core_algo::map::Bounds;
 use core_algo::protocol::message::{Broadcast, FailureKind, StrategyKind, StrategySettings};
-use core_algo::protocol::{LinkConfig, Message, Pose, MAX_FRAME_LEN};
+use core_algo::protocol::{LinkConfig, MAX_FRAME_LEN, Message, Pose};
 use core_algo::team::RobotId;
 use core_algo::timing::Timing;
-use robot::{host_agent, BoxedStrategy, SimFirmware};
+use robot::{BoxedStrategy, SimFirmware, host_agent};
 
 /// Faults to inject into a run.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -95,7 +95,10 @@ impl std::fmt::Display for SimError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             SimError::TooManyRobots { robots, starts } => {
-                write!(f, "asked for {robots} robots, but the field has {starts} start poses")
+                write!(
+                    f,
+                    "asked for {robots} robots, but the field has {starts} start poses"
+                )
             }
             SimError::NoRobots => write!(f, "expected at least one robot"),
         }
@@ -117,6 +120,7 @@ pub struct Simulation {
     chain: Chain,
     started: Vec<bool>,
     paused: bool,
+    done_at: Option<u32>,
 }
 
 /// The map window every participant uses: the field's bounding box with a
@@ -143,20 +147,43 @@ impl Simulation {
             return Err(SimError::NoRobots);
         }
         if robots > field.starts().len() {
-            return Err(SimError::TooManyRobots { robots, starts: field.starts().len() });
+            return Err(SimError::TooManyRobots {
+                robots,
+                starts: field.starts().len(),
+            });
         }
         let timing = Timing::from_hardware(u32::from(field.spacing_mm()), config.speed);
-        let starts: Vec<_> = field.starts().iter().take(robots).map(|s| (s.pos, s.heading)).collect();
+        let starts: Vec<_> = field
+            .starts()
+            .iter()
+            .take(robots)
+            .map(|s| (s.pos, s.heading))
+            .collect();
         let bounds = window(field);
-        let agent_config = AgentConfig { timing, ..config.agent };
+        let agent_config = AgentConfig {
+            timing,
+            ..config.agent
+        };
         let firmware = (0..robots)
             .map(|i| {
                 let id = RobotId(i as u8);
-                SimFirmware::new(id, host_agent(id, bounds, strategy(id), agent_config), config.link, 1)
+                SimFirmware::new(
+                    id,
+                    host_agent(id, bounds, strategy(id), agent_config),
+                    config.link,
+                    1,
+                )
             })
             .collect();
         let proxies = (0..robots)
-            .map(|i| SimRobot::new(RobotId(i as u8), config.link, config.faults.channel, config.seed.wrapping_add(i as u64 * 7919)))
+            .map(|i| {
+                SimRobot::new(
+                    RobotId(i as u8),
+                    config.link,
+                    config.faults.channel,
+                    config.seed.wrapping_add(i as u64 * 7919),
+                )
+            })
             .collect();
         Ok(Simulation {
             now: 0,
@@ -168,6 +195,7 @@ impl Simulation {
             chain: Chain::standard(),
             started: vec![false; robots],
             paused: false,
+            done_at: None,
             field: field.clone(),
             config,
         })
@@ -215,7 +243,9 @@ impl Simulation {
 
     /// Sends `message` to robot `id` through its proxy (manual control).
     pub fn send(&mut self, id: RobotId, message: Message) -> bool {
-        let Some(p) = self.proxies.get_mut(id.index()) else { return false };
+        let Some(p) = self.proxies.get_mut(id.index()) else {
+            return false;
+        };
         p.send(message);
         true
     }
@@ -223,9 +253,15 @@ impl Simulation {
     /// Whether the run is over: the team finished, everyone died, or time
     /// ran out.
     pub fn is_over(&self) -> bool {
-        self.env.finished_at().is_some()
-            || self.firmware.iter().all(|f| f.is_dead() || f.finished())
-            || self.now >= self.config.max_time_ms
+        self.done_at.is_some() || self.now >= self.config.max_time_ms
+    }
+
+    /// Every robot is dead or has said the team is done and stands still.
+    fn team_done(&self) -> bool {
+        self.firmware
+            .iter()
+            .zip(self.bodies.bodies())
+            .all(|(f, b)| f.is_dead() || (f.finished() && b.is_idle()))
     }
 
     /// Advances to the next event; returns `false` once the run is over.
@@ -239,8 +275,14 @@ impl Simulation {
         let next = [
             Some(self.next_tick),
             self.bodies.next_event(),
-            self.proxies.iter().filter_map(|p| p.up.next_arrival()).min(),
-            self.proxies.iter().filter_map(|p| p.down.next_arrival()).min(),
+            self.proxies
+                .iter()
+                .filter_map(|p| p.up.next_arrival())
+                .min(),
+            self.proxies
+                .iter()
+                .filter_map(|p| p.down.next_arrival())
+                .min(),
         ]
         .into_iter()
         .flatten()
@@ -285,6 +327,9 @@ impl Simulation {
         }
         self.phone_side(now);
         self.env.check_finished();
+        if self.done_at.is_none() && self.team_done() {
+            self.done_at = Some(now);
+        }
         true
     }
 
@@ -324,20 +369,42 @@ impl Simulation {
             for e in events.drain(..) {
                 match e {
                     ProxyEvent::Message(m) => {
-                        if matches!(m, Message::Hello { .. }) && !self.started.get(i).copied().unwrap_or(true) {
+                        if matches!(m, Message::Hello { .. })
+                            && !self.started.get(i).copied().unwrap_or(true)
+                        {
                             self.start_robot(id);
                         }
-                        self.chain.dispatch(&mut self.env, &Inbound { from: id, message: &m }, &mut relay);
+                        self.chain.dispatch(
+                            &mut self.env,
+                            &Inbound {
+                                from: id,
+                                message: &m,
+                            },
+                            &mut relay,
+                        );
                     }
                     ProxyEvent::LinkUp => {
-                        self.env.update_robot(id, |r| r.link_up = true);
+                        self.env.update_robot(id, |r| {
+                            r.link_up = true;
+                            r.failed = false;
+                        });
                     }
                     ProxyEvent::LinkLost => {
                         self.env.stats_mut().link_losses += 1;
-                        self.env.update_robot(id, |r| r.link_up = false);
+                        // Failed until it is heard again; the team plans
+                        // around it meanwhile.
+                        self.env.update_robot(id, |r| {
+                            r.link_up = false;
+                            r.failed = true;
+                        });
                         relay.out.push((
                             Recipients::AllBut(id),
-                            Message::Relayed { origin: id, broadcast: Broadcast::Failure { kind: FailureKind::LinkLost } },
+                            Message::Relayed {
+                                origin: id,
+                                broadcast: Broadcast::Failure {
+                                    kind: FailureKind::LinkLost,
+                                },
+                            },
                         ));
                     }
                     ProxyEvent::Restarted => {
@@ -376,7 +443,9 @@ impl Simulation {
     }
 
     fn start_robot(&mut self, id: RobotId) {
-        let Some(s) = self.field.starts().get(id.index()).copied() else { return };
+        let Some(s) = self.field.starts().get(id.index()).copied() else {
+            return;
+        };
         if let Some(flag) = self.started.get_mut(id.index()) {
             *flag = true;
         }
@@ -387,7 +456,13 @@ impl Simulation {
         };
         self.env.update_robot(id, |r| r.home = Some(s.pos));
         if let Some(p) = self.proxies.get_mut(id.index()) {
-            p.send(Message::Start { pose: Pose { pos: s.pos, heading: s.heading }, settings });
+            p.send(Message::Start {
+                pose: Pose {
+                    pos: s.pos,
+                    heading: s.heading,
+                },
+                settings,
+            });
         }
     }
 
@@ -399,7 +474,8 @@ impl Simulation {
                     f.kill();
                 }
                 self.bodies.kill(id);
-                self.env.log_line(format!("fault: robot {id} dies at {now} ms"));
+                self.env
+                    .log_line(format!("fault: robot {id} dies at {now} ms"));
             }
         }
         for &(id, at, dur) in &self.config.faults.stall {
@@ -461,7 +537,7 @@ impl Simulation {
             complete: map_correct && all_home && map.is_complete(),
             map_correct,
             all_home,
-            makespan_ms: self.env.finished_at().unwrap_or(self.now),
+            makespan_ms: self.done_at.unwrap_or(self.now),
             robots,
             frames_sent: down.sent + up.sent,
             frames_lost: down.lost + up.lost,
@@ -503,7 +579,8 @@ pub struct Outcome {
     pub map_correct: bool,
     /// Every living robot stands on its start node.
     pub all_home: bool,
-    /// Until the team said it is done (or the run stopped), ms.
+    /// Until every living robot said the team is done and stood still (or
+    /// the run stopped), ms.
     pub makespan_ms: u32,
     /// Per robot.
     pub robots: Vec<RobotOutcome>,

@@ -5,10 +5,10 @@
 
 use super::body::{Order, Report};
 use core_algo::agent::{Agent, AgentConfig, Command, Event as AgentEvent, ManualOrder, PeerNews};
-use core_algo::explore::{Context, Decision, Strategy};
+use core_algo::explore::{Context, Decision, MAX_ROBOTS, Strategy};
 use core_algo::geometry::{Arms, Heading, Pos};
-use core_algo::map::{blocks_for, Block, Bounds, KnownMap};
-use core_algo::path::{min_cells, DistField, PlanCell, PlanError};
+use core_algo::map::{Block, Bounds, KnownMap, blocks_for};
+use core_algo::path::{DistField, PlanCell, PlanError, min_cells};
 use core_algo::protocol::link::Event as LinkEvent;
 use core_algo::protocol::message::{Broadcast, FailureKind, FirmwareVersion, RobotState, Status};
 use core_algo::protocol::{Link, LinkConfig, Message, Pose};
@@ -33,19 +33,33 @@ impl Strategy<Vec<Block>, Vec<PlanCell>> for BoxedStrategy {
     }
 }
 
+/// Planner fields of a host-side agent: one per robot of a team of up to
+/// [`MAX_ROBOTS`], so that centralised strategies plan for everyone.
+pub const HOST_FIELDS: usize = MAX_ROBOTS;
+
 /// The agent type every host-side robot runs.
-pub type HostAgent = Agent<Vec<Block>, Vec<PlanCell>, BoxedStrategy>;
+pub type HostAgent = Agent<Vec<Block>, Vec<PlanCell>, BoxedStrategy, HOST_FIELDS>;
 
 /// An agent for robot `id` whose map covers `bounds`.
-pub fn host_agent(id: RobotId, bounds: Bounds, strategy: BoxedStrategy, config: AgentConfig) -> HostAgent {
+pub fn host_agent(
+    id: RobotId,
+    bounds: Bounds,
+    strategy: BoxedStrategy,
+    config: AgentConfig,
+) -> HostAgent {
     let map = KnownMap::new(vec![Block::EMPTY; blocks_for(bounds.area())], bounds)
         .unwrap_or_else(|e| unreachable!("storage sized for the bounds: {e}"));
-    let field = DistField::new(vec![PlanCell::EMPTY; min_cells(bounds.area())]);
-    Agent::new(id, map, field, strategy, config)
+    let fields =
+        core::array::from_fn(|_| DistField::new(vec![PlanCell::EMPTY; min_cells(bounds.area())]));
+    Agent::new(id, map, fields, strategy, config)
 }
 
 /// The firmware version simulated robots report.
-pub const SIM_FIRMWARE: FirmwareVersion = FirmwareVersion { major: 0, minor: 1, patch: 0 };
+pub const SIM_FIRMWARE: FirmwareVersion = FirmwareVersion {
+    major: 0,
+    minor: 1,
+    patch: 0,
+};
 
 /// Counters of one simulated robot.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -93,9 +107,10 @@ impl SimFirmware {
         &self.agent
     }
 
-    /// Whether the agent said the team is done.
+    /// Whether the agent says the team is done (it may take it back when a
+    /// team mate thought failed turns up again).
     pub fn finished(&self) -> bool {
-        self.finished
+        self.agent.mode() == core_algo::agent::Mode::Finished
     }
 
     /// The robot stops working (its processor died).
@@ -133,9 +148,12 @@ impl SimFirmware {
         let event = match report {
             Report::NodeHit { relative } => AgentEvent::NodeHit { relative },
             Report::Collision => {
-                self.queue(Message::Collision { proximity: 0b1000_0001 });
+                self.queue(Message::Collision {
+                    proximity: 0b1000_0001,
+                });
                 AgentEvent::Collision
             }
+            Report::Bumped { toward } => AgentEvent::Bumped { toward },
             Report::Abyss => {
                 self.queue(Message::Abyss { floor: 0b111 });
                 AgentEvent::Rejected
@@ -152,7 +170,10 @@ impl SimFirmware {
         if !self.hello_sent {
             // Announce readiness first, as the real firmware does.
             self.hello_sent = true;
-            self.queue(Message::Hello { robot: self.id, firmware: SIM_FIRMWARE });
+            self.queue(Message::Hello {
+                robot: self.id,
+                firmware: SIM_FIRMWARE,
+            });
         }
         self.link.tick(now);
         self.drain_link(now, orders);
@@ -173,7 +194,11 @@ impl SimFirmware {
         Message::Status(Status {
             uptime_ms: now,
             pose: Pose { pos, heading },
-            state: if self.finished { RobotState::Finished } else { RobotState::Stopped },
+            state: if self.finished {
+                RobotState::Finished
+            } else {
+                RobotState::Stopped
+            },
             floor: 0,
             proximity: 0,
         })
@@ -181,19 +206,34 @@ impl SimFirmware {
 
     fn drain_link(&mut self, now: u32, orders: &mut Vec<Order>) {
         while let Some(ev) = self.link.poll_event() {
-            let LinkEvent::Received { message, .. } = ev else { continue };
+            let LinkEvent::Received { message, .. } = ev else {
+                continue;
+            };
             let event = match message {
-                Message::Start { pose, .. } => AgentEvent::Start { pos: pose.pos, heading: pose.heading },
+                Message::Start { pose, .. } => AgentEvent::Start {
+                    pos: pose.pos,
+                    heading: pose.heading,
+                },
                 Message::Relayed { origin, broadcast } => match broadcast {
                     Broadcast::NodeHit { pose, arms } => AgentEvent::Peer(
                         origin,
-                        PeerNews::NodeHit { pos: pose.pos, heading: pose.heading, arms },
+                        PeerNews::NodeHit {
+                            pos: pose.pos,
+                            heading: pose.heading,
+                            arms,
+                        },
                     ),
-                    Broadcast::Intent { target } => AgentEvent::Peer(origin, PeerNews::Intent { target }),
+                    Broadcast::Intent { target } => {
+                        AgentEvent::Peer(origin, PeerNews::Intent { target })
+                    }
                     Broadcast::Failure { .. } => AgentEvent::Peer(origin, PeerNews::Failed),
                     Broadcast::Localize(_) => continue,
                 },
-                Message::Manual { on } => AgentEvent::Manual(if on { ManualOrder::Take } else { ManualOrder::Release }),
+                Message::Manual { on } => AgentEvent::Manual(if on {
+                    ManualOrder::Take
+                } else {
+                    ManualOrder::Release
+                }),
                 Message::Turn(t) => AgentEvent::Manual(ManualOrder::Turn(t)),
                 Message::Move => AgentEvent::Manual(ManualOrder::Move),
                 Message::RequestStatus => {
@@ -208,7 +248,9 @@ impl SimFirmware {
     }
 
     fn feed(&mut self, now: u32, event: AgentEvent, orders: &mut Vec<Order>) {
-        let Ok(commands) = self.agent.handle(now, event) else { return };
+        let Ok(commands) = self.agent.handle(now, event) else {
+            return;
+        };
         if matches!(event, AgentEvent::Start { .. }) {
             // The initial scan classifies the start node (seed §2.5).
             orders.push(Order::Scan);
@@ -227,7 +269,9 @@ impl SimFirmware {
                 Command::Stop => {
                     self.queue(Message::Relayed {
                         origin: self.id,
-                        broadcast: Broadcast::Failure { kind: FailureKind::NodeObstruction },
+                        broadcast: Broadcast::Failure {
+                            kind: FailureKind::NodeObstruction,
+                        },
                     });
                 }
             }
@@ -252,5 +296,8 @@ impl SimFirmware {
 
 /// A node-hit message.
 pub fn node_hit(pos: Pos, heading: Heading, arms: Arms) -> Message {
-    Message::NodeHit { pose: Pose { pos, heading }, arms }
+    Message::NodeHit {
+        pose: Pose { pos, heading },
+        arms,
+    }
 }
