@@ -18,6 +18,7 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod behaviour;
 pub mod control;
 pub mod geometry;
 pub mod map;

@@ -201,8 +201,8 @@ impl Record {
 /// sequence of "sample here, drive there".
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
 pub struct LevelSampler {
-    sums: [u32; 3],
-    count: u16,
+    pub(crate) sums: [u32; 3],
+    pub(crate) count: u16,
 }
 
 impl LevelSampler {

@@ -7,7 +7,7 @@
 //! the angular part ω of the 2010 `setSpeed(v, ω)` (left = v + ω,
 //! right = v − ω), so a brighter left sensor (line to the right) turns right.
 
-use super::pid::{Gains, Pid};
+use super::pid::{Fix, Gains, Pid};
 use super::{FloorImage, MAX_SPEED, Wheels};
 
 /// The 2010 error-sum limit, in calibrated floor units.
@@ -58,17 +58,22 @@ impl LineFollower {
         Wheels::from_linear_angular(v, omega)
     }
 
-    /// Turning on the spot onto the line: the same error, no forward speed.
-    pub fn centre(&mut self, floor: FloorImage) -> Wheels {
-        let omega = self.pid.update(line_error(floor));
-        Wheels::from_linear_angular(0, omega)
+    /// Turning on the spot onto the line after a turn: proportional only,
+    /// with its own `gain`, because rotating on the spot moves the sensors
+    /// sideways at a different rate than steering while driving does; the
+    /// turn is limited to ±`max_speed`.
+    pub fn centre(floor: FloorImage, gain: Fix, max_speed: i16) -> Wheels {
+        let omega = gain
+            .saturating_mul(Fix::saturating_from_num(line_error(floor)))
+            .saturating_to_num::<i32>();
+        let m = i32::from(max_speed.max(0));
+        Wheels::from_linear_angular(0, omega.clamp(-m, m))
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::control::pid::Fix;
 
     fn p_only() -> LineFollower {
         LineFollower::new(Gains {
@@ -111,7 +116,23 @@ mod tests {
         );
         assert!(w.left <= MAX_SPEED && w.right >= -MAX_SPEED);
         assert_eq!(i32::from(w.left) - i32::from(w.right), 2 * 1000);
-        let c = f.centre(FloorImage::default());
+        let c = LineFollower::centre(FloorImage::default(), Fix::from_num(2), 300);
         assert_eq!(c, Wheels::STOP);
+        let c = LineFollower::centre(
+            FloorImage {
+                left: 768,
+                centre: 256,
+                right: 256,
+            },
+            Fix::from_num(2),
+            300,
+        );
+        assert_eq!(
+            c,
+            Wheels {
+                left: 300,
+                right: -300
+            }
+        );
     }
 }

@@ -105,7 +105,7 @@ impl Debounce {
             return None;
         }
         let since = *self.since.get_or_insert(at);
-        (at - since > steps).then_some(since)
+        (at.saturating_sub(since) > steps).then_some(since)
     }
 }
 
@@ -180,7 +180,9 @@ impl NodeDetector {
                 }
                 if let Some(end) = all_white {
                     // The line ended: a dead end.
-                    let stop_at = end + c.sensor_offset_steps - c.line_end_to_centre_steps;
+                    let stop_at = end
+                        .saturating_add(c.sensor_offset_steps)
+                        .saturating_sub(c.line_end_to_centre_steps);
                     self.phase = Phase::Ending {
                         stop_at,
                         arms: BEHIND,
@@ -210,16 +212,18 @@ impl NodeDetector {
                     if outer {
                         *last_black = travelled;
                     }
-                    let past = travelled - *last_black > 2 * c.debounce_steps;
-                    if past || travelled - *first_black > c.max_crossing_steps {
+                    let past =
+                        travelled.saturating_sub(*last_black) > c.debounce_steps.saturating_mul(2);
+                    if past || travelled.saturating_sub(*first_black) > c.max_crossing_steps {
                         *cleared = true;
                     }
                 } else if left.or(centre).or(right).is_some() {
                     *ahead = true;
                 }
                 if *cleared {
-                    let centre_at = (*first_black + *last_black) / 2;
-                    let stop_at = centre_at + c.sensor_offset_steps;
+                    let centre_at =
+                        first_black.saturating_add(last_black.saturating_sub(*first_black) / 2);
+                    let stop_at = centre_at.saturating_add(c.sensor_offset_steps);
                     if travelled >= stop_at {
                         let arms = *sides | BEHIND | if *ahead { AHEAD } else { 0 };
                         return self.arrive(arms);

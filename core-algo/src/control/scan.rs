@@ -95,7 +95,7 @@ impl Scan {
             }
         } else if let Some(start) = self.black_since {
             let end = *self.white_since.get_or_insert(rotation);
-            if rotation - end > self.debounce {
+            if rotation.saturating_sub(end) > self.debounce {
                 self.black_since = None;
                 self.white_since = None;
                 self.push(start, end);
@@ -120,7 +120,7 @@ impl Scan {
             let end = self.white_since.unwrap_or(rotation);
             if self.started_black == Some(true) && self.count > 0 {
                 let (_, first_end) = self.intervals[0];
-                self.intervals[0] = (start - self.full_turn, first_end);
+                self.intervals[0] = (start.saturating_sub(self.full_turn), first_end);
             } else {
                 self.push(start, end);
             }
@@ -130,17 +130,17 @@ impl Scan {
                 self.count as u8 + u8::from(self.overflow),
             ));
         }
-        let quarter = self.full_turn / 4;
+        let quarter = (self.full_turn / 4).max(1);
         let mut centres = [0i32; 4];
         for (c, (s, e)) in centres
             .iter_mut()
             .zip(self.intervals.iter())
             .take(self.count)
         {
-            *c = (s + e) / 2;
+            *c = s.saturating_add(e.saturating_sub(*s) / 2);
         }
         // Misalignment: the first arm's offset from its nearest quarter.
-        let first = centres[0].rem_euclid(quarter);
+        let first = centres[0].rem_euclid(quarter.max(1));
         let misalignment = if first > quarter / 2 {
             first - quarter
         } else {
@@ -148,8 +148,10 @@ impl Scan {
         };
         let mut bits = 0u8;
         for c in centres.iter().take(self.count) {
-            let a = (c - misalignment).rem_euclid(self.full_turn);
-            let q = (a + quarter / 2) / quarter;
+            let a = c
+                .saturating_sub(misalignment)
+                .rem_euclid(self.full_turn.max(4));
+            let q = (a + quarter / 2) / quarter.max(1);
             let off = a - q * quarter;
             if off.abs() > self.tolerance {
                 return Err(ScanError::Misaligned);
