@@ -24,6 +24,10 @@
 //! that distance has been driven without a crossing.
 
 use super::FloorImage;
+
+/// An outer sensor below this (a quarter of its spot on black) may be
+/// entering a crossing line.
+pub const GREY_BELOW: u16 = 640;
 use crate::geometry::Arms;
 
 /// Relative arm bits (bit 0 ahead, 1 right, 2 behind, 3 left).
@@ -43,9 +47,14 @@ pub struct NodeConfig {
     /// the node centre: half the line width less a quarter of the sensor
     /// spot.
     pub line_end_to_centre_steps: i32,
-    /// A crossing longer than this is over regardless (a line met at a
-    /// shallow angle must not keep the robot blind forever).
+    /// The outer sensors see the crossing line for at most this long (line
+    /// width + spot + 2 mm); black after it belongs to the line ahead, which
+    /// a robot arriving at an angle may catch with an outer sensor.
     pub max_crossing_steps: i32,
+    /// How long an outer sensor turning grey holds the heading while it is
+    /// unclear whether a crossing line comes in (a quarter spot's width
+    /// more than the spot takes to go from grey to black).
+    pub suspect_steps: i32,
     /// Node spacing for straight pieces; 0 when unknown (then straight
     /// pieces are driven through unreported).
     pub node_spacing_steps: i32,
@@ -58,7 +67,8 @@ impl NodeConfig {
         debounce_steps: 3,
         sensor_offset_steps: 233,
         line_end_to_centre_steps: 35,
-        max_crossing_steps: 300,
+        max_crossing_steps: 170,
+        suspect_steps: 40,
         node_spacing_steps: 0,
     };
 }
@@ -116,6 +126,7 @@ pub struct NodeDetector {
     phase: Phase,
     sensors: [Debounce; 3],
     white: Debounce,
+    suspect: Option<i32>,
 }
 
 impl NodeDetector {
@@ -126,6 +137,7 @@ impl NodeDetector {
             phase: Phase::Following,
             sensors: [Debounce { since: None }; 3],
             white: Debounce { since: None },
+            suspect: None,
         }
     }
 
@@ -192,7 +204,24 @@ impl NodeDetector {
                 if c.node_spacing_steps > 0 && travelled >= c.node_spacing_steps {
                     return self.arrive(AHEAD | BEHIND);
                 }
-                NodeStep::Follow
+                // An outer sensor turning grey may be a crossing line
+                // coming in: then the left−right error measures that line,
+                // not the robot's offset, and would kick the robot off its
+                // course. Hold the heading for a short distance; a crossing
+                // turns the sensor black within it, a slow drift does not
+                // (and the PID takes over again).
+                let grey = floor.left < GREY_BELOW || floor.right < GREY_BELOW;
+                match (grey, self.suspect) {
+                    (false, _) => self.suspect = None,
+                    (true, None) => self.suspect = Some(travelled),
+                    (true, Some(_)) => {}
+                }
+                match self.suspect {
+                    Some(since) if travelled.saturating_sub(since) <= c.suspect_steps => {
+                        NodeStep::Cross
+                    }
+                    _ => NodeStep::Follow,
+                }
             }
             Phase::Crossing {
                 first_black,
@@ -323,11 +352,13 @@ mod tests {
     #[test]
     fn a_short_blip_is_no_node() {
         let mut d = NodeDetector::new(NodeConfig::EPUCK);
-        assert_eq!(d.update(img(true, true, false), 10), NodeStep::Follow);
-        assert_eq!(d.update(img(true, true, false), 13), NodeStep::Follow);
+        // Unconfirmed black holds the heading but starts no crossing.
+        assert_eq!(d.update(img(true, true, false), 10), NodeStep::Cross);
+        assert_eq!(d.update(img(true, true, false), 13), NodeStep::Cross);
+        assert!(!d.crossing());
         assert_eq!(d.update(img(false, true, false), 16), NodeStep::Follow);
         assert!(!d.crossing());
-        assert_eq!(d.update(img(true, true, false), 20), NodeStep::Follow);
+        assert_eq!(d.update(img(true, true, false), 20), NodeStep::Cross);
         assert_eq!(d.update(img(true, true, false), 24), NodeStep::Cross);
         assert!(d.crossing());
     }
