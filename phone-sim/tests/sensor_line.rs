@@ -2,7 +2,10 @@
 //! collision and abyss (see docs/results/control.md for the numbers).
 
 use core_algo::behaviour::{Command, Config, Event, Robot};
+use core_algo::control::Wheels;
 use core_algo::control::calibration::CalibrationError;
+use core_algo::control::line_follow::line_error;
+use core_algo::control::pid::{Critical, Fix, Gains, Relay, RelayTuner};
 use core_algo::geometry::{Heading, Pos, Turn};
 use phone_sim::sensor_world::body::Pose;
 use phone_sim::sensor_world::field::LineField;
@@ -260,5 +263,110 @@ fn abyss_layer_stops_before_the_edge() {
         println!("STAT abyss speed={speed} axle_to_edge_mm={margin:.1}");
         // The wheels (on the axle) are still well on the floor.
         assert!(margin > 10.0, "margin {margin}");
+    }
+}
+
+/// Runs the relay experiment on a straight line at 600 steps/s.
+fn relay_experiment(seed: u64) -> Critical {
+    let mut field = LineField::new(1, 9, 100.0, 12.0);
+    for y in 0..8 {
+        field.connect(Pos::new(0, y), Heading::North);
+    }
+    let mut w = World::new(field, SimConfig::default(), seed);
+    let i = calibrated_robot(&mut w, config(), Pos::new(0, 0), Heading::North);
+    let cal = w.robots[i].robot.calibration().expect("calibrated");
+    let mut tuner = RelayTuner::new(120, 40, 2, 5);
+    loop {
+        let s = w.sense(i);
+        match tuner.update(line_error(cal.apply(s.floor))) {
+            Relay::Drive(u) => w.drive_body(i, Wheels::from_linear_angular(600, u)),
+            Relay::Done(c) => return c,
+            Relay::Failed => panic!("relay experiment failed"),
+        }
+        assert!(w.robots[i].body.pose.y < 780.0, "ran out of line");
+    }
+}
+
+/// Mean RMS lateral error (centre sensor, mm) of `gains` over disturbed
+/// starts on a straight line at 600 steps/s.
+fn follow_cost(gains: Gains, seed: u64) -> f64 {
+    let mut total = 0.0;
+    let starts = [
+        (-6.0, 0.0),
+        (6.0, 0.0),
+        (0.0, -3.0),
+        (0.0, 3.0),
+        (4.0, 2.0),
+        (-4.0, -2.0),
+    ];
+    for (k, (deg, lateral)) in starts.iter().enumerate() {
+        let mut field = LineField::new(1, 9, 100.0, 12.0);
+        for y in 0..8 {
+            field.connect(Pos::new(0, y), Heading::North);
+        }
+        let mut w = World::new(field, SimConfig::default(), seed + k as u64);
+        let mut cfg = config();
+        cfg.node.node_spacing_steps = 0;
+        cfg.gains = gains;
+        let i = calibrated_robot(&mut w, cfg, Pos::new(0, 0), Heading::North);
+        let p = &mut w.robots[i].body.pose;
+        p.theta += f64::to_radians(*deg);
+        p.x += lateral;
+        w.order(i, Command::Move).unwrap();
+        let mut stats = Stats::default();
+        while w.robots[i].body.pose.y < 600.0 && w.tick < 3000 {
+            w.step();
+            let pose = w.robots[i].body.pose;
+            let (sx, _) = pose.point(w.geometry.floor_forward_mm, 0.0);
+            stats.add(sx);
+        }
+        total += stats.rms();
+    }
+    total / starts.len() as f64
+}
+
+#[test]
+fn ziegler_nichols_auto_tune_matches_a_sweep() {
+    let critical = relay_experiment(50);
+    let tuned = critical.gains();
+    // Sweep K_r with the experiment's time constants (T_N = 0.5 T_crit,
+    // T_V = 0.12 T_crit), from 0.1 to 1.2 K_crit.
+    let tn = critical.period * Fix::lit("0.5");
+    let tv = critical.period * Fix::lit("0.12");
+    let mut best = (f64::INFINITY, Fix::ZERO);
+    for tenth in 1..=12 {
+        let kr = critical.gain * Fix::from_num(tenth) / 10;
+        let cost = follow_cost(Gains::from_times(kr, tn, tv), 60);
+        println!("STAT tune sweep kr={kr:.3} ({tenth}/10 K_crit) rms_mm={cost:.3}");
+        if cost < best.0 {
+            best = (cost, kr);
+        }
+    }
+    let zn_cost = follow_cost(tuned, 60);
+    let legacy_cost = follow_cost(Gains::LEGACY, 60);
+    let ratio = (tuned.kp / best.1).to_num::<f64>();
+    println!(
+        "STAT tune critical_gain={:.3} period_ticks={:.1} zn_kp={:.3} zn_ki={:.4} zn_kd={:.3} \
+         zn_rms_mm={zn_cost:.3} best_kr={:.3} best_rms_mm={:.3} kp_ratio={ratio:.2} legacy_rms_mm={legacy_cost:.3}",
+        critical.gain, critical.period, tuned.kp, tuned.ki, tuned.kd, best.1, best.0
+    );
+    assert!(
+        (0.8..=1.2).contains(&ratio) || zn_cost <= best.0 * 1.2,
+        "ratio {ratio}"
+    );
+    // The tuned follower passes the line test.
+    let mut cfg = config();
+    cfg.gains = tuned;
+    for speed in [300, 600, 1000] {
+        let (axle, sensor, stop) = walk(speed, 200, 8, cfg);
+        println!(
+            "STAT line tuned speed={speed} edges=200 axle_rms={:.2} axle_max={:.2} sensor_rms={:.2} \
+             sensor_max={:.2} worst_stop_off_node_mm={stop:.1}",
+            axle.rms(),
+            axle.max_abs,
+            sensor.rms(),
+            sensor.max_abs
+        );
+        assert!(sensor.max_abs < 6.0);
     }
 }
