@@ -55,6 +55,10 @@ pub struct NodeConfig {
     /// unclear whether a crossing line comes in (a quarter spot's width
     /// more than the spot takes to go from grey to black).
     pub suspect_steps: i32,
+    /// After the outer sensors leave the crossing line, the centre one may
+    /// still be on it for up to 10 mm · sin 10° at a 10° approach: black
+    /// counts as the line ahead only this far past the last outer black.
+    pub clearance_steps: i32,
     /// Node spacing for straight pieces; 0 when unknown (then straight
     /// pieces are driven through unreported).
     pub node_spacing_steps: i32,
@@ -69,6 +73,7 @@ impl NodeConfig {
         line_end_to_centre_steps: 35,
         max_crossing_steps: 170,
         suspect_steps: 40,
+        clearance_steps: 24,
         node_spacing_steps: 0,
     };
 }
@@ -230,12 +235,19 @@ impl NodeDetector {
                 cleared,
                 ahead,
             } => {
+                let begun = travelled.saturating_sub(*first_black);
                 if !*cleared {
                     let outer = black & 0b101 != 0;
-                    if left.is_some() {
+                    // Both sides of a crossing line turn black within a few
+                    // steps of each other, even at an angle; a side that
+                    // turns black later has caught the line ahead.
+                    let paired = |since: Option<i32>| {
+                        since.is_some_and(|s| s.saturating_sub(*first_black) <= c.suspect_steps)
+                    };
+                    if paired(left) {
                         *sides |= LEFT;
                     }
-                    if right.is_some() {
+                    if paired(right) {
                         *sides |= RIGHT;
                     }
                     if outer {
@@ -243,10 +255,15 @@ impl NodeDetector {
                     }
                     let past =
                         travelled.saturating_sub(*last_black) > c.debounce_steps.saturating_mul(2);
-                    if past || travelled.saturating_sub(*first_black) > c.max_crossing_steps {
+                    if past || begun > c.max_crossing_steps {
                         *cleared = true;
                     }
-                } else if left.or(centre).or(right).is_some() {
+                } else if travelled.saturating_sub(*last_black) > c.clearance_steps
+                    && left.or(centre).or(right).is_some()
+                {
+                    // The centre sensor may trail the last outer one off
+                    // the crossing line when the robot arrives at an angle;
+                    // past that, black is the line going on.
                     *ahead = true;
                 }
                 if *cleared {
