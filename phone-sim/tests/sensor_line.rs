@@ -370,3 +370,67 @@ fn ziegler_nichols_auto_tune_matches_a_sweep() {
         assert!(sensor.max_abs < 6.0);
     }
 }
+
+/// After a collision the phone sends a U-turn and a move: the robot
+/// returns along its line and reports the node it came from (the 2010
+/// RETURN_NODE path, now driven by the phone). A robot driving at a wall
+/// stops before it too.
+#[test]
+fn collision_return_and_wall() {
+    let field = LineField::lattice(2, 4, 100.0, 12.0);
+    let mut w = World::new(field, SimConfig::default(), 70);
+    let a = calibrated_robot(&mut w, config(), Pos::new(0, 1), Heading::North);
+    let b = w.add_robot(
+        Robot::new(config(), None),
+        Pose {
+            x: 0.0,
+            y: 240.0,
+            theta: heading_theta(Heading::South),
+        },
+    );
+    let run = drive_edge(&mut w, a, 2000);
+    assert!(
+        matches!(run.end.map(|e| e.event), Some(Event::Collision { .. })),
+        "{run:?}"
+    );
+    w.order(a, Command::Turn(Turn::UTurn)).unwrap();
+    assert_eq!(
+        w.run_until_event(a, 500).map(|e| e.event),
+        Some(Event::Centred)
+    );
+    let run = drive_edge(&mut w, a, 2000);
+    let (at, facing, off) = where_is(&w, a);
+    let truth = relative_arms(&w, Pos::new(0, 1), Heading::South);
+    println!(
+        "STAT collision return at={at} facing={facing} off_node_mm={off:.1} event={:?}",
+        run.end.map(|e| e.event)
+    );
+    assert_eq!(
+        run.end.map(|e| e.event),
+        Some(Event::NodeHit { arms: truth })
+    );
+    assert_eq!((at, facing), (Pos::new(0, 1), Heading::South));
+    assert_eq!(w.contacts, 0);
+    let _ = b;
+
+    // A line that runs into a wall at the floor's edge.
+    let mut field = LineField::lattice(3, 3, 100.0, 12.0);
+    field.add_outward_arm(Pos::new(2, 1), Heading::East);
+    field.walls = true;
+    field.margin_mm = 120.0;
+    let mut w = World::new(field, SimConfig::default(), 71);
+    let i = calibrated_robot(&mut w, config(), Pos::new(2, 1), Heading::East);
+    let run = drive_edge(&mut w, i, 2000);
+    let p = w.robots[i].body.pose;
+    let (_, _, x1, _) = w.field.floor_bounds();
+    let gap = x1 - (p.x + 37.0);
+    println!(
+        "STAT collision wall gap_mm={gap:.1} event={:?}",
+        run.end.map(|e| e.event)
+    );
+    assert!(
+        matches!(run.end.map(|e| e.event), Some(Event::Collision { .. })),
+        "{run:?}"
+    );
+    assert!(gap > 3.0 && w.contacts == 0);
+}
