@@ -342,6 +342,32 @@ fn ziegler_nichols_auto_tune_matches_a_sweep() {
             best = (cost, kr);
         }
     }
+    // The same sweep scored on the real task: a 40-edge walk with turns
+    // and nodes at 600 and 1000 steps/s (RMS of the axle's offset).
+    let mut best_walk = (f64::INFINITY, Fix::ZERO);
+    for tenth in 2..=12 {
+        let kr = critical.gain * Fix::from_num(tenth) / 10;
+        let mut cfg = config();
+        cfg.gains = Gains::from_times(kr, tn, tv);
+        // A gain that loses a node or the line scores infinity.
+        let cost = [600, 1000]
+            .iter()
+            .map(|v| {
+                std::panic::catch_unwind(|| walk(*v, 40, 9, cfg).0.rms()).unwrap_or(f64::INFINITY)
+            })
+            .sum::<f64>()
+            / 2.0;
+        println!("STAT tune walk_sweep kr={kr:.3} ({tenth}/10 K_crit) axle_rms_mm={cost:.3}");
+        if cost < best_walk.0 {
+            best_walk = (cost, kr);
+        }
+    }
+    println!(
+        "STAT tune walk_best kr={:.3} rms_mm={:.3} zn_over_best={:.2}",
+        best_walk.1,
+        best_walk.0,
+        (tuned.kp / best_walk.1).to_num::<f64>()
+    );
     let zn_cost = follow_cost(tuned, 60);
     let legacy_cost = follow_cost(Gains::LEGACY, 60);
     let ratio = (tuned.kp / best.1).to_num::<f64>();
@@ -350,9 +376,27 @@ fn ziegler_nichols_auto_tune_matches_a_sweep() {
          zn_rms_mm={zn_cost:.3} best_kr={:.3} best_rms_mm={:.3} kp_ratio={ratio:.2} legacy_rms_mm={legacy_cost:.3}",
         critical.gain, critical.period, tuned.kp, tuned.ki, tuned.kd, best.1, best.0
     );
+    // On the straight-line cost the ZN gain is 0.6 × the best (which sits
+    // next to instability), but its cost is within 20 %; on the task
+    // (walks with nodes at 600 and 1000 steps/s) the best gain is within
+    // 20 % of ZN's and ZN's cost is within 20 % of the best.
     assert!(
-        (0.8..=1.2).contains(&ratio) || zn_cost <= best.0 * 1.2,
-        "ratio {ratio}"
+        zn_cost <= best.0 * 1.2,
+        "straight-line cost {zn_cost} vs {}",
+        best.0
+    );
+    let mut zn_cfg = config();
+    zn_cfg.gains = tuned;
+    let zn_walk = [600, 1000]
+        .iter()
+        .map(|v| walk(*v, 40, 9, zn_cfg).0.rms())
+        .sum::<f64>()
+        / 2.0;
+    println!("STAT tune zn_walk_rms_mm={zn_walk:.3}");
+    assert!(
+        zn_walk <= best_walk.0 * 1.2,
+        "walk cost {zn_walk} vs {}",
+        best_walk.0
     );
     // The tuned follower passes the line test.
     let mut cfg = config();
