@@ -20,7 +20,7 @@ fn config() -> Config {
 
 /// Random walk of `edges` edges on a 6 × 6 lattice at `speed`; every node
 /// report must match the field and the position the robot should be at.
-fn walk(speed: i16, edges: usize, seed: u64, cfg: Config) -> (Stats, Stats, f64) {
+fn walk(speed: i16, edges: usize, seed: u64, cfg: Config) -> (Stats, Stats, f64, Stats) {
     let field = LineField::lattice(6, 6, 100.0, 12.0);
     let mut w = World::new(field, SimConfig::default(), seed);
     let i = calibrated_robot(&mut w, cfg, Pos::new(2, 2), Heading::North);
@@ -29,6 +29,7 @@ fn walk(speed: i16, edges: usize, seed: u64, cfg: Config) -> (Stats, Stats, f64)
     let mut heading = Heading::North;
     let (mut axle, mut sensor) = (Stats::default(), Stats::default());
     let mut worst_stop: f64 = 0.0;
+    let mut turned = Stats::default();
     for k in 0..edges {
         // Choose a way on: any arm but the one behind, else turn back.
         let rel = relative_arms(&w, node, heading);
@@ -54,6 +55,9 @@ fn walk(speed: i16, edges: usize, seed: u64, cfg: Config) -> (Stats, Stats, f64)
             let e = w.run_until_event(i, 400).map(|e| e.event);
             assert_eq!(e, Some(Event::Centred), "edge {k}: turn");
             heading = heading.turned(t);
+            let pose = w.robots[i].body.pose;
+            let (sx, sy) = pose.point(w.geometry.floor_forward_mm, 0.0);
+            turned.add(w.lateral_offset(sx, sy, pose.theta));
         }
         let run = drive_edge(&mut w, i, 2000);
         axle.merge(&run.axle);
@@ -69,23 +73,29 @@ fn walk(speed: i16, edges: usize, seed: u64, cfg: Config) -> (Stats, Stats, f64)
         assert_eq!((at, facing), (node, heading), "speed {speed} edge {k}");
         worst_stop = worst_stop.max(off);
     }
-    (axle, sensor, worst_stop)
+    (axle, sensor, worst_stop, turned)
 }
 
 #[test]
 fn line_following_never_loses_the_line() {
     for speed in [300, 600, 1000] {
-        let (axle, sensor, stop) = walk(speed, 200, 7, config());
+        let (axle, sensor, stop, turned) = walk(speed, 200, 7, config());
         println!(
             "STAT line speed={speed} edges=200 axle_mean={:.2} axle_rms={:.2} axle_max={:.2} \
-             sensor_rms={:.2} sensor_max={:.2} worst_stop_off_node_mm={:.1}",
+             sensor_rms={:.2} sensor_max={:.2} worst_stop_off_node_mm={:.1} turns={} \
+             sensor_after_turn_rms={:.2} max={:.2}",
             axle.mean(),
             axle.rms(),
             axle.max_abs,
             sensor.rms(),
             sensor.max_abs,
-            stop
+            stop,
+            turned.n,
+            turned.rms(),
+            turned.max_abs
         );
+        // Turns end centred: the centre sensor on the new line.
+        assert!(turned.max_abs < 4.0, "after turns: {turned:?}");
         // The centre sensor never left the 12 mm line.
         assert!(sensor.max_abs < 6.0, "speed {speed}: {sensor:?}");
     }
@@ -402,7 +412,7 @@ fn ziegler_nichols_auto_tune_matches_a_sweep() {
     let mut cfg = config();
     cfg.gains = tuned;
     for speed in [300, 600, 1000] {
-        let (axle, sensor, stop) = walk(speed, 200, 8, cfg);
+        let (axle, sensor, stop, _) = walk(speed, 200, 8, cfg);
         println!(
             "STAT line tuned speed={speed} edges=200 axle_rms={:.2} axle_max={:.2} sensor_rms={:.2} \
              sensor_max={:.2} worst_stop_off_node_mm={stop:.1}",

@@ -147,3 +147,45 @@ fn turns_are_exact_and_end_centred() {
     robot.order(Command::Stop).unwrap();
     assert_eq!(robot.state().orders.peek(), None);
 }
+
+mod never_panics {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn command() -> impl Strategy<Value = Command> {
+        prop_oneof![
+            Just(Command::Calibrate),
+            Just(Command::Scan),
+            Just(Command::Move),
+            Just(Command::Stop),
+            Just(Command::Turn(Turn::Left)),
+            Just(Command::Turn(Turn::Right)),
+            Just(Command::Turn(Turn::UTurn)),
+            any::<i16>().prop_map(Command::SetSpeed),
+        ]
+    }
+
+    proptest! {
+        /// Arbitrary sensor images, step counters and orders: the stack
+        /// never panics and never asks the motors for more than they can do.
+        #[test]
+        fn any_input_is_safe(
+            calibrated in any::<bool>(),
+            input in proptest::collection::vec(
+                (any::<[u16; 3]>(), any::<[u16; 8]>(), any::<i32>(), any::<i32>(),
+                 proptest::option::of(command())),
+                1..200,
+            ),
+        ) {
+            let mut robot = if calibrated { super::calibrated() } else { Robot::new(Config::EPUCK, None) };
+            for (floor, proximity, left, right, order) in input {
+                if let Some(c) = order {
+                    let _ = robot.order(c);
+                }
+                let s = Sensors { floor, proximity, steps: StepCount { left, right } };
+                let out = robot.step(&s);
+                prop_assert!(out.wheels.left.abs() <= 1000 && out.wheels.right.abs() <= 1000);
+            }
+        }
+    }
+}
