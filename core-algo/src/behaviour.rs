@@ -15,7 +15,7 @@
 //! 5. [`node`]: crossing a node, classify it, stop on its centre;
 //! 6. [`movement`]: the phone's orders — turns and speed changes — only
 //!    while the robot stands on a node;
-//! 7. [`line`]: PID line following, and centring on the line after a turn.
+//! 7. [`line`](mod@line): PID line following, and centring on the line after a turn.
 //!
 //! The inputs are a plain [`Sensors`] image and the phone's [`Command`]s; the
 //! outputs are [`Wheels`] and [`Event`]s. Firmware and simulator drive the
