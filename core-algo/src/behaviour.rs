@@ -32,7 +32,7 @@ pub mod node;
 
 use crate::control::calibration::{Calibration, CalibrationError, Record};
 use crate::control::node_detect::NodeConfig;
-use crate::control::pid::{Fix, Gains};
+use crate::control::pid::{Critical, Fix, Gains};
 use crate::control::scan::ScanError;
 use crate::control::{FloorImage, StepCount, Wheels};
 use crate::geometry::{Arms, Turn};
@@ -67,6 +67,10 @@ pub enum Command {
     SetSpeed(i16),
     /// Stop now, whatever the robot is doing; forget queued orders.
     Stop,
+    /// Tune the line follower on the spot: drive along a long straight
+    /// line under a relay (Åström–Hägglund) until the critical gain and
+    /// period are known, then use the Ziegler–Nichols gains.
+    Tune,
 }
 
 /// What the robot tells the phone.
@@ -97,6 +101,16 @@ pub enum Event {
         /// Steps driven since the last node.
         travelled: i32,
     },
+    /// The relay experiment finished; these gains are now in use (store
+    /// them with the calibration).
+    Tuned {
+        /// What the experiment measured.
+        critical: Critical,
+        /// The Ziegler–Nichols gains derived from it.
+        gains: Gains,
+    },
+    /// The relay experiment found no steady oscillation; gains unchanged.
+    TuneFailed,
     /// Stopped before the floor's edge.
     Abyss {
         /// Floor sensors that see no floor (bit 0 left, 1 centre, 2 right).
@@ -134,6 +148,8 @@ pub enum Mode {
     Centring,
     /// Following the line to the next node.
     Moving,
+    /// Driving along a line under the relay experiment.
+    Tuning,
     /// Stopped before an obstacle.
     Blocked,
     /// Stopped before the floor's edge.
@@ -141,6 +157,12 @@ pub enum Mode {
 }
 
 impl Mode {
+    /// Driving forward along a line, where the abyss and collision layers
+    /// must watch.
+    pub const fn driving(self) -> bool {
+        matches!(self, Mode::Moving | Mode::Tuning)
+    }
+
     /// Standing still and ready for an order.
     pub const fn waiting(self) -> bool {
         matches!(

@@ -25,7 +25,7 @@ impl AbyssLayer {
 
 impl Layer for AbyssLayer {
     fn act(&mut self, ctx: &mut Context<'_>) -> Option<Act> {
-        if ctx.state.mode != Mode::Moving {
+        if !ctx.state.mode.driving() {
             self.seen = 0;
             return None;
         }

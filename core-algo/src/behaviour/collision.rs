@@ -34,7 +34,7 @@ pub fn proximity_mask(proximity: &[u16; 8], threshold: u16) -> u8 {
 
 impl Layer for CollisionLayer {
     fn act(&mut self, ctx: &mut Context<'_>) -> Option<Act> {
-        if ctx.state.mode != Mode::Moving {
+        if !ctx.state.mode.driving() {
             return None;
         }
         let mask = proximity_mask(&ctx.sensors.proximity, ctx.state.config.collision_threshold);

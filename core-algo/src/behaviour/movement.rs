@@ -67,6 +67,11 @@ impl Layer for MovementLayer {
                 state.orders.pop();
                 state.enter(Mode::Scanning, steps);
             }
+            Command::Tune => {
+                state.orders.pop();
+                state.enter(Mode::Tuning, steps);
+                state.departed = steps;
+            }
         }
         Some(Act::drive(Wheels::STOP))
     }
