@@ -19,6 +19,8 @@
 extern crate std;
 
 pub mod agent;
+pub mod behaviour;
+pub mod control;
 pub mod explore;
 pub mod geometry;
 pub mod map;

@@ -15,5 +15,6 @@ pub mod field;
 pub mod handlers;
 pub mod proxy;
 pub mod render;
+pub mod sensor_world;
 pub mod sim;
 pub mod world;
