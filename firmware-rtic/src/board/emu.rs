@@ -43,7 +43,7 @@ impl Motors {
     }
 
     fn sync(&mut self) {
-        let now = crate::Mono::now().duration_since_epoch().to_millis();
+        let now = crate::Mono::now().duration_since_epoch().as_millis();
         let elapsed = now.wrapping_sub(self.last_ms).min(1000);
         self.last_ms = now;
         for (w, acc) in self.wheels.iter_mut().zip(self.acc.iter_mut()) {

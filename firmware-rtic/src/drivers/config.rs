@@ -4,7 +4,9 @@
 //! about a second, stepper interrupts included; [`ConfigStore::store`] is
 //! therefore only callable with proof that the motors stand still.
 
-use drivers_logic::config::{CalibrationRecord, RECORD_LEN, RecordError, SECTOR, SECTOR_OFFSET};
+use drivers_logic::config::{
+    CalibrationRecord, RECORD_LEN, RecordError, SECTOR, SECTOR_ADDRESS, SECTOR_OFFSET,
+};
 use stm32f4xx_hal::{flash::FlashExt, pac::FLASH};
 
 /// Proof, taken under the motors' lock, that both wheels are stopped.
@@ -38,10 +40,12 @@ impl ConfigStore {
     }
 
     /// Reads and checks the stored record.
+    ///
+    /// Reads the fixed address directly rather than through the HAL's
+    /// `FlashExt::read`, which first reads the flash-size register: QEMU's
+    /// netduinoplus2 does not map that register and would bus-fault.
     pub fn load(&self) -> Result<CalibrationRecord, RecordError> {
-        let all = self.flash.read();
-        let bytes = all.get(SECTOR_OFFSET..SECTOR_OFFSET + RECORD_LEN).ok_or(RecordError::Short)?;
-        CalibrationRecord::decode(bytes)
+        CalibrationRecord::decode(record_bytes())
     }
 
     /// Erases sector 11 and writes `record` (blocking, ~1 s).
@@ -57,4 +61,14 @@ impl ConfigStore {
             _ => Err(StoreError::Verify),
         }
     }
+}
+
+/// The record's bytes in memory-mapped flash.
+#[allow(unsafe_code)]
+fn record_bytes() -> &'static [u8] {
+    // SAFETY: 0x080E_0000..+32 is memory-mapped flash on every STM32F405/407
+    // with 1 MiB (the e-puck2's F407VG and QEMU's F405). memory.x keeps code
+    // and data out of sector 11, so nothing aliases it mutably; the only
+    // writer is `store`, which takes `&mut self` and is done before we read.
+    unsafe { core::slice::from_raw_parts(SECTOR_ADDRESS as *const u8, RECORD_LEN) }
 }
