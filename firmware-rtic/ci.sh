@@ -1,0 +1,70 @@
+#!/usr/bin/env bash
+# CI for the e-puck2 firmware (called from the project's .ci/run).
+#
+# 1. installs what it needs: the thumbv7em-none-eabihf target, flip-link,
+#    qemu-system-arm (apt, only when missing);
+# 2. builds the real firmware and the QEMU variant in release, failing on
+#    any warning;
+# 3. prints the size report and fails over budget (flash 128 KiB, static
+#    RAM 48 KiB);
+# 4. runs the host unit tests (drivers-logic, host-tests) and the QEMU
+#    boot-and-talk end-to-end test, under a timeout.
+#
+# Environment: CARGO_BUILD_JOBS (default 2), FIRMWARE_CI_TIMEOUT (seconds for
+# the test step, default 300).
+set -euo pipefail
+cd "$(dirname "$0")"
+
+t0=$(date +%s)
+step() { echo "== firmware-rtic: $* (+$(( $(date +%s) - t0 ))s)"; }
+jobs="${CARGO_BUILD_JOBS:-2}"
+host=x86_64-unknown-linux-gnu
+
+step "tools"
+if ! rustup target list --installed | grep -qx thumbv7em-none-eabihf; then
+  rustup target add thumbv7em-none-eabihf
+fi
+if ! command -v flip-link >/dev/null; then
+  cargo install flip-link --locked
+fi
+if ! command -v qemu-system-arm >/dev/null; then
+  apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq qemu-system-arm
+fi
+
+# Builds with the given cargo arguments; fails if the compiler warned about
+# any crate of this workspace (registry crates' warnings are capped by cargo).
+build_no_warnings() {
+  local log
+  log=$(mktemp)
+  if ! cargo build --release -j "$jobs" "$@" 2>&1 | tee "$log"; then
+    rm -f "$log"
+    return 1
+  fi
+  if grep -q '^warning' "$log"; then
+    echo "firmware-rtic: warnings are errors in CI" >&2
+    rm -f "$log"
+    return 1
+  fi
+  rm -f "$log"
+}
+
+step "build e-puck2 firmware (release, thumbv7em-none-eabihf)"
+build_no_warnings
+mkdir -p target
+cp target/thumbv7em-none-eabihf/release/firmware-rtic target/firmware-epuck2.elf
+
+step "build QEMU firmware (release, --features qemu)"
+build_no_warnings --features qemu
+cp target/thumbv7em-none-eabihf/release/firmware-rtic target/firmware-qemu.elf
+
+step "size report (budget: flash 128 KiB, static RAM 48 KiB)"
+cargo run -q -j "$jobs" --target "$host" -p host-tests --bin size-report -- \
+  target/firmware-epuck2.elf target/firmware-qemu.elf
+
+step "host unit tests and QEMU end-to-end test"
+REQUIRE_QEMU=1 FIRMWARE_QEMU_ELF="$PWD/target/firmware-qemu.elf" \
+  timeout "${FIRMWARE_CI_TIMEOUT:-300}" \
+  cargo test -j "$jobs" --target "$host" -p drivers-logic -p host-tests
+
+step "done"
