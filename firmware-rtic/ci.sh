@@ -3,8 +3,8 @@
 #
 # 1. installs what it needs: the thumbv7em-none-eabihf target, flip-link,
 #    qemu-system-arm (apt, only when missing);
-# 2. builds the real firmware and the QEMU variant in release, failing on
-#    any warning;
+# 2. checks formatting; builds the real firmware and the QEMU variant in
+#    release, failing on any warning; clippy with warnings denied;
 # 3. prints the size report and fails over budget (flash 128 KiB, static
 #    RAM 48 KiB);
 # 4. runs the host unit tests (drivers-logic, host-tests) and the QEMU
@@ -49,6 +49,9 @@ build_no_warnings() {
   rm -f "$log"
 }
 
+step "rustfmt"
+cargo fmt --all -- --check
+
 step "build e-puck2 firmware (release, thumbv7em-none-eabihf)"
 build_no_warnings
 mkdir -p target
@@ -57,6 +60,11 @@ cp target/thumbv7em-none-eabihf/release/firmware-rtic target/firmware-epuck2.elf
 step "build QEMU firmware (release, --features qemu)"
 build_no_warnings --features qemu
 cp target/thumbv7em-none-eabihf/release/firmware-rtic target/firmware-qemu.elf
+
+step "clippy (firmware both variants, host crates), warnings denied"
+cargo clippy --release -j "$jobs" -- -D warnings
+cargo clippy --release -j "$jobs" --features qemu -- -D warnings
+cargo clippy -j "$jobs" --target "$host" -p drivers-logic -p host-tests --all-targets -- -D warnings
 
 step "size report (budget: flash 128 KiB, static RAM 48 KiB)"
 cargo run -q -j "$jobs" --target "$host" -p host-tests --bin size-report -- \

@@ -101,9 +101,15 @@ mod app {
         let (tx_prod, tx_cons) = cx.local.tx_queue.split();
         let (to_agent, from_control) = make_channel!(AgentEvent, AGENT_QUEUE);
 
-        let map = Map::with_bounds(MAP_BOUNDS).unwrap_or_else(|_| defmt::panic!("map bounds exceed 1024 nodes"));
+        let map = Map::with_bounds(MAP_BOUNDS)
+            .unwrap_or_else(|_| defmt::panic!("map bounds exceed 1024 nodes"));
         let mode = BootMode::from_selector(b.selector);
-        defmt::info!("boot: selector {}, mode {}, emulated {}", b.selector, mode, board::EMULATED);
+        defmt::info!(
+            "boot: selector {}, mode {}, emulated {}",
+            b.selector,
+            mode,
+            board::EMULATED
+        );
 
         sample::spawn().ok();
         control::spawn().ok();
@@ -169,7 +175,9 @@ mod app {
     #[task(priority = 3, shared = [motors, prox, image, behaviour], local = [ground, leds, config, mode, to_agent])]
     async fn control(mut cx: control::Context) {
         let mut calibration = match cx.local.config.load() {
-            Ok(r) => GroundCalibration::new(r.black, r.white).unwrap_or(GroundCalibration::IDENTITY),
+            Ok(r) => {
+                GroundCalibration::new(r.black, r.white).unwrap_or(GroundCalibration::IDENTITY)
+            }
             Err(e) => {
                 defmt::warn!("no calibration record ({}), using identity", e);
                 GroundCalibration::IDENTITY
@@ -225,10 +233,12 @@ mod app {
                     command
                 }
             };
-            cx.shared.motors.lock(|m| m.set_speeds(command.left, command.right));
+            cx.shared
+                .motors
+                .lock(|m| m.set_speeds(command.left, command.right));
 
             // Heartbeat: body LED toggles every 500 ms.
-            cx.local.leds.set_body((cycle / 50) % 2 == 0);
+            cx.local.leds.set_body((cycle / 50).is_multiple_of(2));
             cycle = cycle.wrapping_add(1);
             next += 10.millis();
             Mono::delay_until(next).await;
@@ -242,8 +252,20 @@ mod app {
     #[task(priority = 2, shared = [motors, image, behaviour, map], local = [link_tx, rx_bytes, selector, decoder: FrameDecoder = FrameDecoder::new()])]
     async fn link(mut cx: link::Context) {
         let selector = *cx.local.selector;
-        let mode = if board::EMULATED { 2 } else if selector == 0 { 0 } else { 1 };
-        send(cx.local.link_tx, Reply::Hello { robot: selector, mode });
+        let mode = if board::EMULATED {
+            2
+        } else if selector == 0 {
+            0
+        } else {
+            1
+        };
+        send(
+            cx.local.link_tx,
+            Reply::Hello {
+                robot: selector,
+                mode,
+            },
+        );
         while let Ok(byte) = cx.local.rx_bytes.recv().await {
             let reply = match cx.local.decoder.push(byte) {
                 None => continue,
@@ -266,17 +288,31 @@ mod app {
                     }
                     Ok(Request::Speed(left, right)) => {
                         let applied = cx.shared.motors.lock(|m| m.set_speeds(left, right));
-                        cx.shared.behaviour.lock(|b| b.manual = MotorCommand { left: applied.0, right: applied.1 });
+                        cx.shared.behaviour.lock(|b| {
+                            b.manual = MotorCommand {
+                                left: applied.0,
+                                right: applied.1,
+                            }
+                        });
                         Reply::Speed(applied.0, applied.1)
                     }
                     Ok(Request::Visit { x, y, arms }) => {
-                        let mut agent = Agent { robot: RobotId(selector) };
+                        let mut agent = Agent {
+                            robot: RobotId(selector),
+                        };
                         let before = cx.shared.map.lock(|m| m.visited_len());
                         let after = cx.shared.map.lock(|m| {
                             agent.on_event(m, AgentEvent::Node { x, y, arms });
                             m.visited_len()
                         });
-                        Reply::Visited(after > before || cx.shared.map.lock(|m| m.is_visited(core_algo::geometry::Pos::new(x, y))), after as u16)
+                        Reply::Visited(
+                            after > before
+                                || cx
+                                    .shared
+                                    .map
+                                    .lock(|m| m.is_visited(core_algo::geometry::Pos::new(x, y))),
+                            after as u16,
+                        )
                     }
                     Ok(Request::Quit) if board::EMULATED => {
                         send(cx.local.link_tx, Reply::Bye);

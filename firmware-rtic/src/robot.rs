@@ -117,7 +117,12 @@ impl Agent {
         match event {
             AgentEvent::Node { x, y, arms } => {
                 if let Err(e) = map.visit(Pos::new(x, y), Arms::from_bits(arms), self.robot) {
-                    defmt::warn!("map refused node ({}, {}): {}", x, y, defmt::Debug2Format(&e));
+                    defmt::warn!(
+                        "map refused node ({}, {}): {}",
+                        x,
+                        y,
+                        defmt::Debug2Format(&e)
+                    );
                 }
             }
         }

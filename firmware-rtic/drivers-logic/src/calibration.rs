@@ -108,7 +108,10 @@ impl CalibrationRun {
             Phase::Back if steps > self.start_steps => Output::Drive(-SPEED, -SPEED),
             Phase::Back | Phase::Done => {
                 self.phase = Phase::Done;
-                let rec = CalibrationRecord { black: self.black, white: self.white };
+                let rec = CalibrationRecord {
+                    black: self.black,
+                    white: self.white,
+                };
                 match GroundCalibration::new(rec.black, rec.white) {
                     Ok(_) => Output::Store(rec),
                     Err(e) => Output::Failed(e),
@@ -140,7 +143,13 @@ mod tests {
     #[test]
     fn records_black_then_white_and_returns() {
         let (out, pos) = run(200, 800);
-        assert_eq!(out, Output::Store(CalibrationRecord { black: [200; 3], white: [800; 3] }));
+        assert_eq!(
+            out,
+            Output::Store(CalibrationRecord {
+                black: [200; 3],
+                white: [800; 3]
+            })
+        );
         assert!(pos.abs() <= 3, "ended {pos} steps from the start");
     }
 

@@ -107,16 +107,26 @@ mod tests {
 
     #[test]
     fn roundtrip() {
-        let r = CalibrationRecord { black: [1, 2, 3], white: [700, 800, 900] };
+        let r = CalibrationRecord {
+            black: [1, 2, 3],
+            white: [700, 800, 900],
+        };
         let b = r.encode();
         assert_eq!(CalibrationRecord::decode(&b), Ok(r));
     }
 
     #[test]
     fn rejects_erased_torn_and_short() {
-        assert_eq!(CalibrationRecord::decode(&[0xFF; RECORD_LEN]), Err(RecordError::BadMagic));
+        assert_eq!(
+            CalibrationRecord::decode(&[0xFF; RECORD_LEN]),
+            Err(RecordError::BadMagic)
+        );
         assert_eq!(CalibrationRecord::decode(&[0; 4]), Err(RecordError::Short));
-        let mut b = CalibrationRecord { black: [1, 2, 3], white: [7, 8, 9] }.encode();
+        let mut b = CalibrationRecord {
+            black: [1, 2, 3],
+            white: [7, 8, 9],
+        }
+        .encode();
         b[10] ^= 0x40;
         assert_eq!(CalibrationRecord::decode(&b), Err(RecordError::Checksum));
         let mut b = CalibrationRecord::default().encode();

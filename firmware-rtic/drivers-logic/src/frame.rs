@@ -189,12 +189,22 @@ impl Request {
     pub fn parse(p: &[u8]) -> Result<Request, ParseError> {
         let (&kind, rest) = p.split_first().ok_or(ParseError::BadLength)?;
         let i16_at = |i: usize| i16::from_le_bytes([rest[i], rest[i + 1]]);
-        let need = |n: usize| if rest.len() == n { Ok(()) } else { Err(ParseError::BadLength) };
+        let need = |n: usize| {
+            if rest.len() == n {
+                Ok(())
+            } else {
+                Err(ParseError::BadLength)
+            }
+        };
         match kind {
             0x02 => need(1).map(|_| Request::Ping(rest[0])),
             0x03 => need(0).map(|_| Request::Status),
             0x04 => need(4).map(|_| Request::Speed(i16_at(0), i16_at(2))),
-            0x05 => need(5).map(|_| Request::Visit { x: i16_at(0), y: i16_at(2), arms: rest[4] }),
+            0x05 => need(5).map(|_| Request::Visit {
+                x: i16_at(0),
+                y: i16_at(2),
+                arms: rest[4],
+            }),
             0x7F => need(0).map(|_| Request::Quit),
             _ => Err(ParseError::UnknownKind),
         }
@@ -351,10 +361,17 @@ mod tests {
     #[test]
     fn parse_requests() {
         assert_eq!(Request::parse(&[0x03]), Ok(Request::Status));
-        assert_eq!(Request::parse(&[0x04, 0x58, 0x02, 0xA8, 0xFD]), Ok(Request::Speed(600, -600)));
+        assert_eq!(
+            Request::parse(&[0x04, 0x58, 0x02, 0xA8, 0xFD]),
+            Ok(Request::Speed(600, -600))
+        );
         assert_eq!(
             Request::parse(&[0x05, 1, 0, 0xFF, 0xFF, 0b1010]),
-            Ok(Request::Visit { x: 1, y: -1, arms: 0b1010 })
+            Ok(Request::Visit {
+                x: 1,
+                y: -1,
+                arms: 0b1010
+            })
         );
         assert_eq!(Request::parse(&[0x02]), Err(ParseError::BadLength));
         assert_eq!(Request::parse(&[0x42]), Err(ParseError::UnknownKind));
@@ -366,7 +383,14 @@ mod tests {
         let mut b = [0u8; MAX_PAYLOAD];
         let n = Reply::Hello { robot: 3, mode: 2 }.encode(&mut b);
         assert_eq!(&b[..n], &[0x01, LINK_VERSION, 3, 2]);
-        let s = Status { selector: 1, left_steps: -2, right_steps: 3, visited: 4, capacity: 1024, ground_centre: 768 };
+        let s = Status {
+            selector: 1,
+            left_steps: -2,
+            right_steps: 3,
+            visited: 4,
+            capacity: 1024,
+            ground_centre: 768,
+        };
         let n = Reply::Status(s).encode(&mut b);
         assert_eq!(n, 16);
         assert_eq!(&b[..6], &[0x83, 1, 0xFE, 0xFF, 0xFF, 0xFF]);

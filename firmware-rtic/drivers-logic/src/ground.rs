@@ -155,7 +155,11 @@ mod tests {
 
     #[test]
     fn reads_through_one_write_read() {
-        let expect = [Transaction::write_read(ADDRESS, vec![0x00], frame().to_vec())];
+        let expect = [Transaction::write_read(
+            ADDRESS,
+            vec![0x00],
+            frame().to_vec(),
+        )];
         let mut mock = Mock::new(&expect);
         let mut g = GroundSensor::new(mock.clone());
         assert_eq!(g.read().unwrap().delta, [300, 1000, 10]);
@@ -164,8 +168,10 @@ mod tests {
 
     #[test]
     fn bus_errors_propagate() {
-        let expect = [Transaction::write_read(ADDRESS, vec![0x00], vec![0; FRAME_LEN])
-            .with_error(ErrorKind::Other)];
+        let expect = [
+            Transaction::write_read(ADDRESS, vec![0x00], vec![0; FRAME_LEN])
+                .with_error(ErrorKind::Other),
+        ];
         let mut mock = Mock::new(&expect);
         let mut g = GroundSensor::new(mock.clone());
         assert!(g.read().is_err());
@@ -182,7 +188,10 @@ mod tests {
         }
         assert!((169..=171).contains(&c.apply_one(0, 0))); // below black, still > 0
         assert_eq!(c.apply_one(0, 1023), MAX_LEVEL);
-        assert_eq!(GroundCalibration::IDENTITY.apply([5, 500, 1023]), [5, 500, 1023]);
+        assert_eq!(
+            GroundCalibration::IDENTITY.apply([5, 500, 1023]),
+            [5, 500, 1023]
+        );
     }
 
     #[test]

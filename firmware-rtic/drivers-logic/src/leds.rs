@@ -28,7 +28,10 @@ mod tests {
     fn active_low() {
         assert_eq!(ring_levels(0), [true; 4]);
         assert_eq!(ring_levels(0xFF), [false; 4]);
-        assert_eq!(ring_levels(arms_mask(true, false, false, true)), [false, true, true, false]);
+        assert_eq!(
+            ring_levels(arms_mask(true, false, false, true)),
+            [false, true, true, false]
+        );
         // Odd bits (the RGB LEDs' places) do not light a red LED.
         assert_eq!(ring_levels(0b1010_1010), [true; 4]);
     }

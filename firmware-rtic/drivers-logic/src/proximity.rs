@@ -114,7 +114,8 @@ impl ProxScan {
         self.scans
     }
 
-    /// Uses the current uncalibrated deltas as the no-obstacle offsets.
+    /// Sets the no-obstacle offsets subtracted from every delta (measured at
+    /// start-up with nothing in range, as the C firmware's `calibrate_ir`).
     pub fn set_offsets(&mut self, offsets: [u16; SENSORS]) {
         self.offsets = offsets;
     }
@@ -176,10 +177,16 @@ mod tests {
     fn negative_delta_and_offset_saturate() {
         let mut s = ProxScan::new();
         s.set_offsets([100; 8]);
-        let mut phase = 0;
-        for _ in 0..5 {
-            s.tick(|i| if phase == 0 { 500 } else if i == 2 { 450 } else { 900 });
-            phase += 1;
+        for phase in 0..5 {
+            s.tick(|i| {
+                if phase == 0 {
+                    500
+                } else if i == 2 {
+                    450
+                } else {
+                    900
+                }
+            });
         }
         let v = s.values();
         assert_eq!(v[2], 0); // delta 50 < offset 100
@@ -189,10 +196,16 @@ mod tests {
     #[test]
     fn masks() {
         let mut s = ProxScan::new();
-        let mut phase = 0;
-        for _ in 0..5 {
-            s.tick(|i| if phase == 0 { 4000 } else if i == 7 { 100 } else { 4000 });
-            phase += 1;
+        for phase in 0..5 {
+            s.tick(|i| {
+                if phase == 0 {
+                    4000
+                } else if i == 7 {
+                    100
+                } else {
+                    4000
+                }
+            });
         }
         let m = s.mask_above(COLLISION_THRESHOLD);
         assert_eq!(m, 0b1000_0000);

@@ -56,14 +56,19 @@ pub fn usage(sections: &[Section]) -> Usage {
 /// The allocated (SHF_ALLOC) sections of a 32-bit little-endian ELF file.
 pub fn alloc_sections(elf: &[u8]) -> Result<Vec<Section>, String> {
     let u16_at = |o: usize| -> Result<u64, String> {
-        elf.get(o..o + 2).map(|b| u16::from_le_bytes([b[0], b[1]]) as u64).ok_or_else(|| format!("truncated at {o}"))
+        elf.get(o..o + 2)
+            .map(|b| u16::from_le_bytes([b[0], b[1]]) as u64)
+            .ok_or_else(|| format!("truncated at {o}"))
     };
     let u32_at = |o: usize| -> Result<u64, String> {
         elf.get(o..o + 4)
             .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as u64)
             .ok_or_else(|| format!("truncated at {o}"))
     };
-    if elf.get(0..4) != Some(b"\x7fELF".as_slice()) || elf.get(4) != Some(&1) || elf.get(5) != Some(&1) {
+    if elf.get(0..4) != Some(b"\x7fELF".as_slice())
+        || elf.get(4) != Some(&1)
+        || elf.get(5) != Some(&1)
+    {
         return Err("not a 32-bit little-endian ELF".into());
     }
     let shoff = u32_at(0x20)? as usize;
@@ -75,7 +80,8 @@ pub fn alloc_sections(elf: &[u8]) -> Result<Vec<Section>, String> {
     let mut out = Vec::new();
     for i in 0..shnum {
         let base = sh(i);
-        let (name_off, kind, flags) = (u32_at(base)? as usize, u32_at(base + 4)?, u32_at(base + 8)?);
+        let (name_off, kind, flags) =
+            (u32_at(base)? as usize, u32_at(base + 4)?, u32_at(base + 8)?);
         const SHF_ALLOC: u64 = 2;
         const SHT_NOBITS: u64 = 8;
         let size = u32_at(base + 0x14)?;
@@ -83,7 +89,10 @@ pub fn alloc_sections(elf: &[u8]) -> Result<Vec<Section>, String> {
             continue;
         }
         let name_bytes = elf.get(strtab + name_off..).ok_or("bad section name")?;
-        let end = name_bytes.iter().position(|&b| b == 0).unwrap_or(name_bytes.len());
+        let end = name_bytes
+            .iter()
+            .position(|&b| b == 0)
+            .unwrap_or(name_bytes.len());
         out.push(Section {
             name: String::from_utf8_lossy(&name_bytes[..end]).into_owned(),
             addr: u32_at(base + 0x0C)?,
@@ -99,7 +108,12 @@ mod tests {
     use super::*;
 
     fn s(name: &str, addr: u64, size: u64, has_bits: bool) -> Section {
-        Section { name: name.into(), addr, size, has_bits }
+        Section {
+            name: name.into(),
+            addr,
+            size,
+            has_bits,
+        }
     }
 
     #[test]
@@ -111,7 +125,13 @@ mod tests {
             s(".bss", 0x2000_0038, 100, false),
             s(".uninit", 0x2000_0100, 1024, false),
         ]);
-        assert_eq!(u, Usage { flash: 392 + 1000 + 56, ram: 56 + 100 + 1024 });
+        assert_eq!(
+            u,
+            Usage {
+                flash: 392 + 1000 + 56,
+                ram: 56 + 100 + 1024
+            }
+        );
     }
 
     #[test]

@@ -57,5 +57,9 @@ fn main() -> ExitCode {
         );
         ok &= flash_ok && ram_ok;
     }
-    if ok { ExitCode::SUCCESS } else { ExitCode::FAILURE }
+    if ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
 }

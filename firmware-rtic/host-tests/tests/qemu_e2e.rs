@@ -66,11 +66,17 @@ impl Drop for Qemu {
 fn elf_path() -> PathBuf {
     std::env::var_os("FIRMWARE_QEMU_ELF")
         .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/firmware-qemu.elf"))
+        .unwrap_or_else(|| {
+            PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/firmware-qemu.elf")
+        })
 }
 
 fn have_qemu() -> bool {
-    Command::new("qemu-system-arm").arg("--version").stdout(Stdio::null()).status().is_ok_and(|s| s.success())
+    Command::new("qemu-system-arm")
+        .arg("--version")
+        .stdout(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
 }
 
 fn i32_at(b: &[u8], i: usize) -> i32 {
@@ -86,7 +92,11 @@ fn boots_announces_ready_and_talks() {
     let elf = elf_path();
     let required = std::env::var("REQUIRE_QEMU").is_ok_and(|v| v == "1");
     if !elf.exists() || !have_qemu() {
-        assert!(!required, "REQUIRE_QEMU=1 but qemu-system-arm or {} is missing", elf.display());
+        assert!(
+            !required,
+            "REQUIRE_QEMU=1 but qemu-system-arm or {} is missing",
+            elf.display()
+        );
         eprintln!("SKIPPED: needs qemu-system-arm and {}", elf.display());
         return;
     }
@@ -100,7 +110,14 @@ fn boots_announces_ready_and_talks() {
         // QEMU itself (not wrapped in timeout(1)): killing a wrapper would
         // orphan QEMU, which keeps cargo's output pipe open.
         Command::new("qemu-system-arm")
-            .args(["-machine", "netduinoplus2", "-display", "none", "-monitor", "none"])
+            .args([
+                "-machine",
+                "netduinoplus2",
+                "-display",
+                "none",
+                "-monitor",
+                "none",
+            ])
             .args(["-semihosting-config", "enable=on,target=native"])
             .args(["-serial", "null", "-serial", "null", "-serial"])
             .arg(format!("tcp:127.0.0.1:{port}"))
@@ -126,36 +143,58 @@ fn boots_announces_ready_and_talks() {
                 if let Some(status) = qemu.0.try_wait().expect("wait") {
                     panic!("qemu exited before connecting: {status}");
                 }
-                assert!(started.elapsed() < Duration::from_secs(10), "qemu did not connect");
+                assert!(
+                    started.elapsed() < Duration::from_secs(10),
+                    "qemu did not connect"
+                );
                 std::thread::sleep(Duration::from_millis(10));
             }
             Err(e) => panic!("accept: {e}"),
         }
     };
     stream.set_nonblocking(false).expect("blocking");
-    stream.set_read_timeout(Some(Duration::from_secs(5))).expect("timeout");
-    let mut link = Link { stream, decoder: FrameDecoder::new() };
+    stream
+        .set_read_timeout(Some(Duration::from_secs(5)))
+        .expect("timeout");
+    let mut link = Link {
+        stream,
+        decoder: FrameDecoder::new(),
+    };
 
     // Ready announcement first, before we send anything.
     let hello = link.recv();
     let boot = started.elapsed();
-    assert_eq!(hello, [0x01, LINK_VERSION, 1, 2], "HELLO: version, robot 1, mode emulated");
+    assert_eq!(
+        hello,
+        [0x01, LINK_VERSION, 1, 2],
+        "HELLO: version, robot 1, mode emulated"
+    );
 
     for seq in [0u8, 7, 255] {
-        assert_eq!(link.request(&[0x02, seq]), [0x82, seq], "PONG echoes the sequence number");
+        assert_eq!(
+            link.request(&[0x02, seq]),
+            [0x82, seq],
+            "PONG echoes the sequence number"
+        );
     }
     assert_eq!(link.request(&[0x42]), [0xEE, 1], "unknown kind");
     assert_eq!(link.request(&[0x02]), [0xEE, 2], "PING without its byte");
 
     // Drive forward-left, let the virtual steppers run, then read the status.
-    assert_eq!(link.request(&[0x04, 0x58, 0x02, 0x2C, 0x01]), [0x84, 0x58, 0x02, 0x2C, 0x01]);
+    assert_eq!(
+        link.request(&[0x04, 0x58, 0x02, 0x2C, 0x01]),
+        [0x84, 0x58, 0x02, 0x2C, 0x01]
+    );
     std::thread::sleep(Duration::from_millis(300));
     let st = link.request(&[0x03]);
     assert_eq!(st.len(), 16, "STATUS length: {st:?}");
     assert_eq!(st[0], 0x83);
     assert_eq!(st[1], 1, "selector");
     let (left, right) = (i32_at(&st, 2), i32_at(&st, 6));
-    assert!(left > 0 && right > 0 && left > right, "steps {left} {right} after 600/300 steps/s");
+    assert!(
+        left > 0 && right > 0 && left > right,
+        "steps {left} {right} after 600/300 steps/s"
+    );
     assert_eq!(u16_at(&st, 10), 0, "nothing visited yet");
     assert_eq!(u16_at(&st, 12), 1024, "map capacity");
     assert_eq!(u16_at(&st, 14), 256, "virtual floor: centre on black");
@@ -164,8 +203,16 @@ fn boots_announces_ready_and_talks() {
     assert_eq!(link.request(&[0x05, 0, 0, 0, 0, 0b1111]), [0x85, 1, 1, 0]);
     assert_eq!(link.request(&[0x05, 1, 0, 0, 0, 0b1111]), [0x85, 1, 2, 0]);
     // (0,1) without a south arm contradicts (0,0)'s north arm: refused.
-    assert_eq!(link.request(&[0x05, 0, 0, 1, 0, 0b0001]), [0x85, 0, 2, 0], "conflict");
-    assert_eq!(link.request(&[0x05, 100, 0, 0, 0, 0b0101]), [0x85, 0, 2, 0], "outside the map");
+    assert_eq!(
+        link.request(&[0x05, 0, 0, 1, 0, 0b0001]),
+        [0x85, 0, 2, 0],
+        "conflict"
+    );
+    assert_eq!(
+        link.request(&[0x05, 100, 0, 0, 0, 0b0101]),
+        [0x85, 0, 2, 0],
+        "outside the map"
+    );
     assert_eq!(u16_at(&link.request(&[0x03]), 10), 2);
 
     // Stop: BYE, then QEMU exits with the firmware's status 0.
@@ -179,5 +226,9 @@ fn boots_announces_ready_and_talks() {
         std::thread::sleep(Duration::from_millis(10));
     };
     assert!(status.success(), "qemu exit status {status}");
-    eprintln!("qemu e2e: HELLO after {:?}, whole run {:?}", boot, started.elapsed());
+    eprintln!(
+        "qemu e2e: HELLO after {:?}, whole run {:?}",
+        boot,
+        started.elapsed()
+    );
 }

@@ -39,7 +39,11 @@ pub struct Motors {
 
 impl Motors {
     fn new() -> Self {
-        Motors { wheels: [Stepper::new(Side::Left), Stepper::new(Side::Right)], acc: [0; 2], last_ms: 0 }
+        Motors {
+            wheels: [Stepper::new(Side::Left), Stepper::new(Side::Right)],
+            acc: [0; 2],
+            last_ms: 0,
+        }
     }
 
     fn sync(&mut self) {
@@ -64,7 +68,10 @@ impl Motors {
     /// Sets both speeds (full steps per second, clamped to ±1000).
     pub fn set_speeds(&mut self, left: i16, right: i16) -> (i16, i16) {
         self.sync();
-        (self.wheels[0].set_speed(left), self.wheels[1].set_speed(right))
+        (
+            self.wheels[0].set_speed(left),
+            self.wheels[1].set_speed(right),
+        )
     }
 
     /// Step counters (left, right), forward positive.
@@ -102,7 +109,11 @@ pub struct Ground;
 impl Ground {
     /// Left and right white, centre black.
     pub fn read(&mut self) -> Option<GroundReading> {
-        Some(GroundReading { delta: [768, 256, 768], ambient: [1000; 3], revision: 0 })
+        Some(GroundReading {
+            delta: [768, 256, 768],
+            ambient: [1000; 3],
+            revision: 0,
+        })
     }
 }
 
@@ -113,10 +124,22 @@ pub fn init(dp: pac::Peripherals) -> Board {
     let gpiod = dp.GPIOD.split(&mut rcc);
     let leds = Leds {
         ring: [
-            gpiod.pd5.into_push_pull_output_in_state(PinState::High).erase(),
-            gpiod.pd6.into_push_pull_output_in_state(PinState::High).erase(),
-            gpiod.pd10.into_push_pull_output_in_state(PinState::High).erase(),
-            gpiod.pd11.into_push_pull_output_in_state(PinState::High).erase(),
+            gpiod
+                .pd5
+                .into_push_pull_output_in_state(PinState::High)
+                .erase(),
+            gpiod
+                .pd6
+                .into_push_pull_output_in_state(PinState::High)
+                .erase(),
+            gpiod
+                .pd10
+                .into_push_pull_output_in_state(PinState::High)
+                .erase(),
+            gpiod
+                .pd11
+                .into_push_pull_output_in_state(PinState::High)
+                .erase(),
         ],
         body: gpiob.pb2.into_push_pull_output().erase(),
         front: gpiod.pd14.into_push_pull_output().erase(),
@@ -130,7 +153,9 @@ pub fn init(dp: pac::Peripherals) -> Board {
     .unwrap_or_else(|_| defmt::panic!("USART3 config"));
     Board {
         motors: Motors::new(),
-        prox: Proximity { scan: ProxScan::new() },
+        prox: Proximity {
+            scan: ProxScan::new(),
+        },
         ground: Ground,
         leds,
         selector: SELECTOR,
@@ -142,7 +167,11 @@ pub fn init(dp: pac::Peripherals) -> Board {
 /// Ends the emulation through semihosting with QEMU's exit status 0 or 1.
 pub fn exit(success: bool) -> ! {
     use cortex_m_semihosting::debug;
-    debug::exit(if success { debug::EXIT_SUCCESS } else { debug::EXIT_FAILURE });
+    debug::exit(if success {
+        debug::EXIT_SUCCESS
+    } else {
+        debug::EXIT_FAILURE
+    });
     #[allow(clippy::empty_loop)]
     loop {}
 }

@@ -78,7 +78,9 @@ pub fn init(dp: pac::Peripherals) -> Board {
     let adc = Adc::new(
         dp.ADC1,
         true,
-        AdcConfig::default().clock(Clock::Pclk2_div_8).resolution(Resolution::Twelve),
+        AdcConfig::default()
+            .clock(Clock::Pclk2_div_8)
+            .resolution(Resolution::Twelve),
         &mut rcc,
     );
     let pins = ProxPins {
@@ -110,10 +112,22 @@ pub fn init(dp: pac::Peripherals) -> Board {
 
     let leds = Leds {
         ring: [
-            gpiod.pd5.into_push_pull_output_in_state(PinState::High).erase(),
-            gpiod.pd6.into_push_pull_output_in_state(PinState::High).erase(),
-            gpiod.pd10.into_push_pull_output_in_state(PinState::High).erase(),
-            gpiod.pd11.into_push_pull_output_in_state(PinState::High).erase(),
+            gpiod
+                .pd5
+                .into_push_pull_output_in_state(PinState::High)
+                .erase(),
+            gpiod
+                .pd6
+                .into_push_pull_output_in_state(PinState::High)
+                .erase(),
+            gpiod
+                .pd10
+                .into_push_pull_output_in_state(PinState::High)
+                .erase(),
+            gpiod
+                .pd11
+                .into_push_pull_output_in_state(PinState::High)
+                .erase(),
         ],
         body: gpiob.pb2.into_push_pull_output().erase(),
         front: gpiod.pd14.into_push_pull_output().erase(),

@@ -49,12 +49,18 @@ impl ConfigStore {
     }
 
     /// Erases sector 11 and writes `record` (blocking, ~1 s).
-    pub fn store(&mut self, record: &CalibrationRecord, _: MotorsStopped) -> Result<(), StoreError> {
+    pub fn store(
+        &mut self,
+        record: &CalibrationRecord,
+        _: MotorsStopped,
+    ) -> Result<(), StoreError> {
         let image = record.encode();
         {
             let mut unlocked = self.flash.unlocked();
             unlocked.erase(SECTOR).map_err(|_| StoreError::Flash)?;
-            unlocked.program(SECTOR_OFFSET, image.iter()).map_err(|_| StoreError::Flash)?;
+            unlocked
+                .program(SECTOR_OFFSET, image.iter())
+                .map_err(|_| StoreError::Flash)?;
         }
         match self.load() {
             Ok(r) if r == *record => Ok(()),

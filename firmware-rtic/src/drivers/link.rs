@@ -42,8 +42,19 @@ pub struct LinkIsr {
 
 impl LinkIsr {
     /// Takes the split serial port (receiver already listening) and the rings.
-    pub fn new(rx: Rx<USART3>, tx: Tx<USART3>, rx_bytes: RxSender, tx_bytes: Consumer<'static, u8>) -> Self {
-        LinkIsr { rx, tx, rx_bytes, tx_bytes, rx_lost: 0 }
+    pub fn new(
+        rx: Rx<USART3>,
+        tx: Tx<USART3>,
+        rx_bytes: RxSender,
+        tx_bytes: Consumer<'static, u8>,
+    ) -> Self {
+        LinkIsr {
+            rx,
+            tx,
+            rx_bytes,
+            tx_bytes,
+            rx_lost: 0,
+        }
     }
 
     /// USART3 interrupt body: one received byte in, as many bytes out as TXE allows.
@@ -104,6 +115,6 @@ impl LinkTx {
 
     /// Whether everything queued has been handed to the USART.
     pub fn is_idle(&self) -> bool {
-        self.queue.len() == 0
+        self.queue.is_empty()
     }
 }

@@ -7,10 +7,10 @@
 //! them); `leds`, `link` and `config` are used by both builds.
 
 pub mod config;
-pub mod leds;
-pub mod link;
 #[cfg(not(feature = "qemu"))]
 pub mod ground;
+pub mod leds;
+pub mod link;
 #[cfg(not(feature = "qemu"))]
 pub mod motors;
 #[cfg(not(feature = "qemu"))]

@@ -28,9 +28,16 @@ impl<T: stm32f4xx_hal::timer::Instance> Wheel<T> {
         use stm32f4xx_hal::Listen;
         let stepper = Stepper::new(side);
         let period = stepper.period();
-        timer.start(fugit::TimerDurationU32::from_ticks(period as u32)).ok();
+        timer
+            .start(fugit::TimerDurationU32::from_ticks(period as u32))
+            .ok();
         timer.listen(stm32f4xx_hal::timer::Event::Update);
-        Wheel { stepper, timer, coils, loaded_period: period }
+        Wheel {
+            stepper,
+            timer,
+            coils,
+            loaded_period: period,
+        }
     }
 
     /// Update interrupt: clear it, output the next half-step, reload the
@@ -44,7 +51,9 @@ impl<T: stm32f4xx_hal::timer::Instance> Wheel<T> {
         let period = self.stepper.period();
         if period != self.loaded_period {
             self.loaded_period = period;
-            self.timer.start(fugit::TimerDurationU32::from_ticks(period as u32)).ok();
+            self.timer
+                .start(fugit::TimerDurationU32::from_ticks(period as u32))
+                .ok();
         }
     }
 }
@@ -71,7 +80,10 @@ impl Motors {
 
     /// Sets both speeds (full steps per second, clamped to ±1000).
     pub fn set_speeds(&mut self, left: i16, right: i16) -> (i16, i16) {
-        (self.left.stepper.set_speed(left), self.right.stepper.set_speed(right))
+        (
+            self.left.stepper.set_speed(left),
+            self.right.stepper.set_speed(right),
+        )
     }
 
     /// Step counters (left, right), forward positive.

@@ -10,7 +10,7 @@
 use drivers_logic::proximity::{Emitters, ProxScan, SENSORS};
 use stm32f4xx_hal::{
     adc::{Adc, config::SampleTime},
-    gpio::{Analog, AnyPin, Output, PushPull, PB0, PB1, PC0, PC1, PC2, PC3, PC4, PC5},
+    gpio::{Analog, AnyPin, Output, PB0, PB1, PC0, PC1, PC2, PC3, PC4, PC5, PushPull},
     pac::ADC1,
 };
 
@@ -46,12 +46,22 @@ impl Proximity {
     /// Takes the configured ADC, the analog pins and the pulse lines
     /// (PULSE_0..PULSE_3, all low).
     pub fn new(adc: Adc<ADC1>, pins: ProxPins, pulse: [AnyPin<Output<PushPull>>; 4]) -> Self {
-        Proximity { adc, pins, pulse, scan: ProxScan::new() }
+        Proximity {
+            adc,
+            pins,
+            pulse,
+            scan: ProxScan::new(),
+        }
     }
 
     /// One 1 ms tick of the schedule.
     pub fn tick(&mut self) {
-        let Proximity { adc, pins, pulse, scan } = self;
+        let Proximity {
+            adc,
+            pins,
+            pulse,
+            scan,
+        } = self;
         let st = SampleTime::Cycles_112;
         let emit = scan.tick(|i| match i {
             0 => adc.convert(&pins.ir0, st),
