@@ -181,12 +181,14 @@ fn boots_announces_ready_and_talks() {
     assert_eq!(link.request(&[0x02]), [0xEE, 2], "PING without its byte");
 
     // Drive forward-left, let the virtual steppers run, then read the status.
+    let driving = Instant::now();
     assert_eq!(
         link.request(&[0x04, 0x58, 0x02, 0x2C, 0x01]),
         [0x84, 0x58, 0x02, 0x2C, 0x01]
     );
     std::thread::sleep(Duration::from_millis(300));
     let st = link.request(&[0x03]);
+    let drove = driving.elapsed();
     assert_eq!(st.len(), 16, "STATUS length: {st:?}");
     assert_eq!(st[0], 0x83);
     assert_eq!(st[1], 1, "selector");
@@ -227,8 +229,11 @@ fn boots_announces_ready_and_talks() {
     };
     assert!(status.success(), "qemu exit status {status}");
     eprintln!(
-        "qemu e2e: HELLO after {:?}, whole run {:?}",
+        "qemu e2e: HELLO after {:?}, whole run {:?}; left wheel {} steps in {:?} of host time at 600 steps/s ({:.0}% of real time)",
         boot,
-        started.elapsed()
+        started.elapsed(),
+        left,
+        drove,
+        left as f64 / 600.0 / drove.as_secs_f64() * 100.0
     );
 }
