@@ -300,19 +300,11 @@ mod app {
                         let mut agent = Agent {
                             robot: RobotId(selector),
                         };
-                        let before = cx.shared.map.lock(|m| m.visited_len());
-                        let after = cx.shared.map.lock(|m| {
-                            agent.on_event(m, AgentEvent::Node { x, y, arms });
-                            m.visited_len()
+                        let (ok, visited) = cx.shared.map.lock(|m| {
+                            let ok = agent.on_event(m, AgentEvent::Node { x, y, arms });
+                            (ok, m.visited_len())
                         });
-                        Reply::Visited(
-                            after > before
-                                || cx
-                                    .shared
-                                    .map
-                                    .lock(|m| m.is_visited(core_algo::geometry::Pos::new(x, y))),
-                            after as u16,
-                        )
+                        Reply::Visited(ok, visited as u16)
                     }
                     Ok(Request::Quit) if board::EMULATED => {
                         send(cx.local.link_tx, Reply::Bye);

@@ -112,17 +112,21 @@ impl Agent {
     ///
     /// PLUG-IN(agent): core-algo's agent decides the next move here and
     /// returns it (to be sent to the control task). Until then: record the
-    /// node in the map.
-    pub fn on_event(&mut self, map: &mut Map, event: AgentEvent) {
+    /// node in the map. Returns whether the map accepted the event.
+    pub fn on_event(&mut self, map: &mut Map, event: AgentEvent) -> bool {
         match event {
             AgentEvent::Node { x, y, arms } => {
-                if let Err(e) = map.visit(Pos::new(x, y), Arms::from_bits(arms), self.robot) {
-                    defmt::warn!(
-                        "map refused node ({}, {}): {}",
-                        x,
-                        y,
-                        defmt::Debug2Format(&e)
-                    );
+                match map.visit(Pos::new(x, y), Arms::from_bits(arms), self.robot) {
+                    Ok(_) => true,
+                    Err(e) => {
+                        defmt::warn!(
+                            "map refused node ({}, {}): {}",
+                            x,
+                            y,
+                            defmt::Debug2Format(&e)
+                        );
+                        false
+                    }
                 }
             }
         }

@@ -101,10 +101,19 @@ pub fn init(dp: pac::Peripherals) -> Board {
     ];
     let prox = ProxDriver::new(adc, pins, pulse);
 
-    // Ground module: I2C1 on PB8/PB9 at 200 kHz.
+    // Ground module: I2C1 on PB8/PB9 at 200 kHz. First clock SCL 16 times
+    // (as the C firmware does) so that a slave left mid-transfer by a reset
+    // releases SDA.
+    let mut scl = gpiob.pb8.into_open_drain_output_in_state(PinState::High);
+    for _ in 0..16 {
+        scl.set_low();
+        cortex_m::asm::delay(SYSCLK_HZ / 200_000); // 5 µs
+        scl.set_high();
+        cortex_m::asm::delay(SYSCLK_HZ / 200_000);
+    }
     let i2c = I2c::new(
         dp.I2C1,
-        (gpiob.pb8, gpiob.pb9),
+        (scl, gpiob.pb9),
         Mode::fast(200.kHz(), DutyCycle::Ratio2to1),
         &mut rcc,
     );
