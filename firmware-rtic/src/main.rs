@@ -32,7 +32,7 @@ use rtic_monotonics::systick::prelude::*;
 
 systick_monotonic!(Mono, 1_000);
 
-/// Link frames waiting for the link task, from control and agent (none yet).
+/// Events queued from the control task to the agent (node reached, ...).
 const AGENT_QUEUE: usize = 4;
 
 #[rtic::app(device = stm32f4xx_hal::pac, peripherals = true, dispatchers = [SPI2, SPI3, UART4, UART5])]
@@ -86,6 +86,7 @@ mod app {
         selector: u8,
         to_agent: Sender<'static, AgentEvent, AGENT_QUEUE>,
         from_control: Receiver<'static, AgentEvent, AGENT_QUEUE>,
+        robot: RobotId,
     }
 
     #[init(local = [tx_queue: TxQueue = Queue::new()])]
@@ -136,6 +137,7 @@ mod app {
                 selector: b.selector,
                 to_agent,
                 from_control,
+                robot: RobotId(b.selector),
             },
         )
     }
@@ -330,9 +332,11 @@ mod app {
     }
 
     /// The agent: decisions at nodes (lowest priority).
-    #[task(priority = 1, shared = [map], local = [from_control])]
+    #[task(priority = 1, shared = [map], local = [from_control, robot])]
     async fn agent(mut cx: agent::Context) {
-        let mut agent = Agent { robot: RobotId(0) };
+        let mut agent = Agent {
+            robot: *cx.local.robot,
+        };
         while let Ok(event) = cx.local.from_control.recv().await {
             cx.shared.map.lock(|m| agent.on_event(m, event));
         }
