@@ -25,6 +25,17 @@ impl BootMode {
     }
 }
 
+/// The `selector=N` setting (N in 0..=15) in an emulator command line such
+/// as QEMU's `-kernel` path followed by its `-append` text, so that several
+/// emulated robots can have different ids and selector 0 can be tried.
+pub fn from_cmdline(cmdline: &[u8]) -> Option<u8> {
+    cmdline
+        .split(|&b| b == b' ' || b == 0)
+        .filter_map(|word| word.strip_prefix(b"selector="))
+        .find_map(|v| core::str::from_utf8(v).ok()?.parse::<u8>().ok())
+        .filter(|&v| v <= 15)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -35,6 +46,16 @@ mod tests {
         assert_eq!(decode([true, false, false, false]), 1);
         assert_eq!(decode([false, true, true, false]), 6);
         assert_eq!(decode([true; 4]), 15);
+    }
+
+    #[test]
+    fn cmdline() {
+        assert_eq!(from_cmdline(b"fw.elf selector=3"), Some(3));
+        assert_eq!(from_cmdline(b"fw.elf foo selector=0 bar"), Some(0));
+        assert_eq!(from_cmdline(b"fw.elf selector=16"), None);
+        assert_eq!(from_cmdline(b"fw.elf selector=x"), None);
+        assert_eq!(from_cmdline(b"fw.elf"), None);
+        assert_eq!(from_cmdline(b""), None);
     }
 
     #[test]

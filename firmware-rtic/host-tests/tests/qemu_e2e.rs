@@ -11,12 +11,12 @@
 use drivers_logic::frame::{FrameDecoder, FrameEvent, LINK_VERSION, encode_frame};
 use std::io::{ErrorKind, Read, Write};
 use std::net::{TcpListener, TcpStream};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// Whole-run limit: a watchdog thread kills QEMU after this long.
-const QEMU_TIMEOUT: Duration = Duration::from_secs(30);
+/// Whole-run limit handed to timeout(1) around QEMU.
+const QEMU_TIMEOUT_S: u32 = 30;
 
 struct Link {
     stream: TcpStream,
@@ -54,11 +54,19 @@ impl Link {
     }
 }
 
+/// QEMU under `timeout(1)`, so it cannot outlive a hung test.
 struct Qemu(Child);
 
 impl Drop for Qemu {
     fn drop(&mut self) {
-        let _ = self.0.kill();
+        if let Ok(None) = self.0.try_wait() {
+            // SIGTERM (not SIGKILL) so that timeout(1) passes it on to QEMU
+            // instead of leaving it orphaned. The child is not reaped yet, so
+            // its pid is still ours.
+            let _ = Command::new("kill")
+                .args(["-TERM", &self.0.id().to_string()])
+                .status();
+        }
         let _ = self.0.wait();
     }
 }
@@ -87,53 +95,26 @@ fn u16_at(b: &[u8], i: usize) -> u16 {
     u16::from_le_bytes([b[i], b[i + 1]])
 }
 
-#[test]
-fn boots_announces_ready_and_talks() {
-    let elf = elf_path();
-    let required = std::env::var("REQUIRE_QEMU").is_ok_and(|v| v == "1");
-    if !elf.exists() || !have_qemu() {
-        assert!(
-            !required,
-            "REQUIRE_QEMU=1 but qemu-system-arm or {} is missing",
-            elf.display()
-        );
-        eprintln!("SKIPPED: needs qemu-system-arm and {}", elf.display());
-        return;
-    }
-
-    // We listen; QEMU connects as the client of its third serial port
-    // (USART3, the e-puck2's Bluetooth UART).
+/// Starts QEMU with the firmware's USART3 connected to a socket we listen on
+/// (QEMU is the client of its third serial port) and accepts the connection.
+fn boot(elf: &Path, append: Option<&str>) -> (Qemu, Link, Instant) {
     let listener = TcpListener::bind("127.0.0.1:0").expect("bind");
     let port = listener.local_addr().expect("addr").port();
     let started = Instant::now();
-    let mut qemu = Qemu(
-        // QEMU itself (not wrapped in timeout(1)): killing a wrapper would
-        // orphan QEMU, which keeps cargo's output pipe open.
-        Command::new("qemu-system-arm")
-            .args([
-                "-machine",
-                "netduinoplus2",
-                "-display",
-                "none",
-                "-monitor",
-                "none",
-            ])
-            .args(["-semihosting-config", "enable=on,target=native"])
-            .args(["-serial", "null", "-serial", "null", "-serial"])
-            .arg(format!("tcp:127.0.0.1:{port}"))
-            .arg("-kernel")
-            .arg(&elf)
-            .stdin(Stdio::null())
-            .spawn()
-            .expect("start qemu"),
-    );
-    let pid = qemu.0.id();
-    std::thread::spawn(move || {
-        std::thread::sleep(QEMU_TIMEOUT);
-        // Still running after the whole-run limit: end it so the test fails
-        // instead of hanging. (The pid is ours; QEMU has exited otherwise.)
-        let _ = Command::new("kill").arg(pid.to_string()).status();
-    });
+    let mut cmd = Command::new("timeout");
+    cmd.arg(QEMU_TIMEOUT_S.to_string())
+        .arg("qemu-system-arm")
+        .args(["-machine", "netduinoplus2"])
+        .args(["-display", "none", "-monitor", "none"])
+        .args(["-semihosting-config", "enable=on,target=native"])
+        .args(["-serial", "null", "-serial", "null", "-serial"])
+        .arg(format!("tcp:127.0.0.1:{port}"))
+        .arg("-kernel")
+        .arg(elf);
+    if let Some(a) = append {
+        cmd.args(["-append", a]);
+    }
+    let mut qemu = Qemu(cmd.stdin(Stdio::null()).spawn().expect("start qemu"));
 
     listener.set_nonblocking(true).expect("nonblocking");
     let stream = loop {
@@ -156,10 +137,48 @@ fn boots_announces_ready_and_talks() {
     stream
         .set_read_timeout(Some(Duration::from_secs(5)))
         .expect("timeout");
-    let mut link = Link {
+    let link = Link {
         stream,
         decoder: FrameDecoder::new(),
     };
+    (qemu, link, started)
+}
+
+/// Sends QUIT, expects BYE, and waits for QEMU to exit with status 0.
+fn quit(qemu: &mut Qemu, link: &mut Link) {
+    assert_eq!(link.request(&[0x7F]), [0xFF]);
+    let deadline = Instant::now() + Duration::from_secs(5);
+    let status = loop {
+        if let Some(s) = qemu.0.try_wait().expect("wait") {
+            break s;
+        }
+        assert!(Instant::now() < deadline, "qemu did not exit after QUIT");
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    assert!(status.success(), "qemu exit status {status}");
+}
+
+/// The ELF, or `None` (test skipped) when it or QEMU is missing and
+/// `REQUIRE_QEMU=1` is not set.
+fn setup() -> Option<PathBuf> {
+    let elf = elf_path();
+    let required = std::env::var("REQUIRE_QEMU").is_ok_and(|v| v == "1");
+    if !elf.exists() || !have_qemu() {
+        assert!(
+            !required,
+            "REQUIRE_QEMU=1 but qemu-system-arm or {} is missing",
+            elf.display()
+        );
+        eprintln!("SKIPPED: needs qemu-system-arm and {}", elf.display());
+        return None;
+    }
+    Some(elf)
+}
+
+#[test]
+fn boots_announces_ready_and_talks() {
+    let Some(elf) = setup() else { return };
+    let (mut qemu, mut link, started) = boot(&elf, None);
 
     // Ready announcement first, before we send anything.
     let hello = link.recv();
@@ -218,16 +237,7 @@ fn boots_announces_ready_and_talks() {
     assert_eq!(u16_at(&link.request(&[0x03]), 10), 2);
 
     // Stop: BYE, then QEMU exits with the firmware's status 0.
-    assert_eq!(link.request(&[0x7F]), [0xFF]);
-    let deadline = Instant::now() + Duration::from_secs(5);
-    let status = loop {
-        if let Some(s) = qemu.0.try_wait().expect("wait") {
-            break s;
-        }
-        assert!(Instant::now() < deadline, "qemu did not exit after QUIT");
-        std::thread::sleep(Duration::from_millis(10));
-    };
-    assert!(status.success(), "qemu exit status {status}");
+    quit(&mut qemu, &mut link);
     eprintln!(
         "qemu e2e: HELLO after {:?}, whole run {:?}; left wheel {} steps in {:?} of host time at 600 steps/s ({:.0}% of real time)",
         boot,
@@ -236,4 +246,29 @@ fn boots_announces_ready_and_talks() {
         drove,
         left as f64 / 600.0 / drove.as_secs_f64() * 100.0
     );
+}
+
+/// Two emulated robots get their ids from `-append selector=N`; selector 0
+/// boots into the calibration run, which drives forward on its own.
+#[test]
+fn selector_from_command_line_and_calibration_mode() {
+    let Some(elf) = setup() else { return };
+
+    let (mut qemu, mut link, _) = boot(&elf, Some("selector=2"));
+    assert_eq!(link.recv(), [0x01, LINK_VERSION, 2, 2], "HELLO as robot 2");
+    assert_eq!(link.request(&[0x03])[1], 2, "STATUS selector");
+    quit(&mut qemu, &mut link);
+
+    let (mut qemu, mut link, _) = boot(&elf, Some("selector=0"));
+    assert_eq!(link.recv(), [0x01, LINK_VERSION, 0, 2], "HELLO as robot 0");
+    // Settling takes 100 ms of emulated time, then both wheels drive forward
+    // at 300 steps/s without any SPEED request.
+    std::thread::sleep(Duration::from_millis(600));
+    let st = link.request(&[0x03]);
+    let (left, right) = (i32_at(&st, 2), i32_at(&st, 6));
+    assert!(
+        left > 0 && left == right,
+        "calibration drives straight: {left} {right}"
+    );
+    quit(&mut qemu, &mut link);
 }

@@ -25,8 +25,32 @@ use stm32f4xx_hal::{
 pub const SYSCLK_HZ: u32 = 168_000_000;
 /// This is the emulator.
 pub const EMULATED: bool = true;
-/// Selector position the virtual board reports: "run" as robot 1.
+/// Selector position the virtual board reports unless the QEMU command line
+/// says `-append selector=N`: "run" as robot 1.
 pub const SELECTOR: u8 = 1;
+
+/// The selector for this emulated robot, from QEMU's `-append` text (read
+/// through the semihosting `SYS_GET_CMDLINE` call), else [`SELECTOR`].
+fn selector() -> u8 {
+    let mut text = [0u8; 256];
+    // Parameter block: buffer address and size in; length written back.
+    let mut block = [text.as_mut_ptr() as usize, text.len()];
+    // SAFETY: QEMU is started with semihosting enabled (documented, and the
+    // exit path needs it too); the host writes at most `text.len()` bytes
+    // into `text` and one word into `block`, both live locals.
+    #[allow(unsafe_code)]
+    let rc = unsafe {
+        cortex_m_semihosting::syscall1(
+            cortex_m_semihosting::nr::GET_CMDLINE,
+            block.as_mut_ptr() as usize,
+        )
+    };
+    if rc != 0 {
+        return SELECTOR;
+    }
+    let len = block[1].min(text.len());
+    drivers_logic::selector::from_cmdline(&text[..len]).unwrap_or(SELECTOR)
+}
 
 /// Steppers without timers: the same [`Stepper`] logic, advanced by elapsed
 /// milliseconds of the monotonic clock whenever the motors are touched.
@@ -158,7 +182,7 @@ pub fn init(dp: pac::Peripherals) -> Board {
         },
         ground: Ground,
         leds,
-        selector: SELECTOR,
+        selector: selector(),
         serial,
         config: ConfigStore::new(dp.FLASH),
     }
