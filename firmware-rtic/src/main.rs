@@ -47,6 +47,7 @@ mod app {
     use core_algo::team::RobotId;
     use drivers_logic::{
         calibration::{CalibrationRun, Output},
+        config::CalibrationRecord,
         frame::{FrameDecoder, FrameEvent, ParseError, Reply, Request, Status},
         ground::GroundCalibration,
         leds::arms_mask,
@@ -176,15 +177,7 @@ mod app {
     /// The 100 Hz control step.
     #[task(priority = 3, shared = [motors, prox, image, behaviour], local = [ground, leds, config, mode, to_agent])]
     async fn control(mut cx: control::Context) {
-        let mut calibration = match cx.local.config.load() {
-            Ok(r) => {
-                GroundCalibration::new(r.black, r.white).unwrap_or(GroundCalibration::IDENTITY)
-            }
-            Err(e) => {
-                defmt::warn!("no calibration record ({}), using identity", e);
-                GroundCalibration::IDENTITY
-            }
-        };
+        let mut calibration = load_calibration(cx.local.config);
         let mut run = matches!(cx.local.mode, BootMode::Calibrate).then(CalibrationRun::new);
         let mut next = Mono::now();
         let mut cycle: u32 = 0;
@@ -204,18 +197,11 @@ mod app {
                 Some(c) => match c.step(raw, (image.steps.0 + image.steps.1) / 2) {
                     Output::Drive(left, right) => MotorCommand { left, right },
                     Output::Store(record) => {
-                        let proof = cx.shared.motors.lock(|m| {
-                            m.set_speeds(0, 0);
-                            MotorsStopped::checked(m.is_stopped())
-                        });
-                        match proof.map(|p| cx.local.config.store(&record, p)) {
-                            Some(Ok(())) => {
-                                calibration = GroundCalibration::new(record.black, record.white)
-                                    .unwrap_or(GroundCalibration::IDENTITY);
-                                defmt::info!("calibration stored: {}", record);
-                                cx.local.leds.set_ring(arms_mask(true, true, true, true));
-                            }
-                            _ => defmt::error!("calibration not stored"),
+                        if let Some(c) =
+                            store_calibration(&mut cx.shared.motors, cx.local.config, &record)
+                        {
+                            calibration = c;
+                            cx.local.leds.set_ring(arms_mask(true, true, true, true));
                         }
                         run = None;
                         MotorCommand::default()
@@ -244,6 +230,46 @@ mod app {
             cycle = cycle.wrapping_add(1);
             next += 10.millis();
             Mono::delay_until(next).await;
+        }
+    }
+
+    /// The stored ground calibration, or the identity map without one.
+    fn load_calibration(config: &ConfigStore) -> GroundCalibration {
+        match config.load() {
+            Ok(r) => {
+                GroundCalibration::new(r.black, r.white).unwrap_or(GroundCalibration::IDENTITY)
+            }
+            Err(e) => {
+                defmt::warn!("no calibration record ({}), using identity", e);
+                GroundCalibration::IDENTITY
+            }
+        }
+    }
+
+    /// Stops the motors and, once they stand still, writes the record to
+    /// flash (the sector erase stalls the flash bus, steppers included).
+    fn store_calibration(
+        motors: &mut impl rtic::Mutex<T = board::Motors>,
+        config: &mut ConfigStore,
+        record: &CalibrationRecord,
+    ) -> Option<GroundCalibration> {
+        let proof = motors.lock(|m| {
+            m.set_speeds(0, 0);
+            MotorsStopped::checked(m.is_stopped())
+        });
+        match proof.map(|p| config.store(record, p)) {
+            Some(Ok(())) => {
+                defmt::info!("calibration stored: {}", record);
+                GroundCalibration::new(record.black, record.white).ok()
+            }
+            Some(Err(e)) => {
+                defmt::error!("calibration not stored: {}", e);
+                None
+            }
+            None => {
+                defmt::error!("calibration not stored: motors still running");
+                None
+            }
         }
     }
 
