@@ -10,14 +10,16 @@
 # 4. runs the host unit tests (drivers-logic, host-tests) and the QEMU
 #    boot-and-talk end-to-end test, under a timeout.
 #
-# Environment: CARGO_BUILD_JOBS (default 2), FIRMWARE_CI_TIMEOUT (seconds for
-# the test step, default 300).
+# Environment: CARGO_BUILD_JOBS (default 2), CARGO_TARGET_DIR (default
+# ./target), FIRMWARE_CI_TIMEOUT (seconds for the test step, default 300).
+# The ELFs end up in $CARGO_TARGET_DIR/firmware-{epuck2,qemu}.elf.
 set -euo pipefail
 cd "$(dirname "$0")"
 
 t0=$(date +%s)
 step() { echo "== firmware-rtic: $* (+$(( $(date +%s) - t0 ))s)"; }
 jobs="${CARGO_BUILD_JOBS:-2}"
+tdir="${CARGO_TARGET_DIR:-target}"
 host=x86_64-unknown-linux-gnu
 
 step "tools"
@@ -59,12 +61,11 @@ cargo fmt --all -- --check
 
 step "build e-puck2 firmware (release, thumbv7em-none-eabihf)"
 build_no_warnings
-mkdir -p target
-cp target/thumbv7em-none-eabihf/release/firmware-rtic target/firmware-epuck2.elf
+cp "$tdir/thumbv7em-none-eabihf/release/firmware-rtic" "$tdir/firmware-epuck2.elf"
 
 step "build QEMU firmware (release, --features qemu)"
 build_no_warnings --features qemu
-cp target/thumbv7em-none-eabihf/release/firmware-rtic target/firmware-qemu.elf
+cp "$tdir/thumbv7em-none-eabihf/release/firmware-rtic" "$tdir/firmware-qemu.elf"
 
 step "clippy (firmware both variants, host crates), warnings denied"
 cargo clippy --release -j "$jobs" -- -D warnings
@@ -73,10 +74,10 @@ cargo clippy -j "$jobs" --target "$host" -p drivers-logic -p host-tests --all-ta
 
 step "size report (budget: flash 128 KiB, static RAM 48 KiB)"
 cargo run -q -j "$jobs" --target "$host" -p host-tests --bin size-report -- \
-  target/firmware-epuck2.elf target/firmware-qemu.elf
+  "$tdir/firmware-epuck2.elf" "$tdir/firmware-qemu.elf"
 
 step "host unit tests and QEMU end-to-end test"
-REQUIRE_QEMU=1 FIRMWARE_QEMU_ELF="$PWD/target/firmware-qemu.elf" \
+REQUIRE_QEMU=1 FIRMWARE_QEMU_ELF="$(realpath "$tdir/firmware-qemu.elf")" \
   timeout "${FIRMWARE_CI_TIMEOUT:-300}" \
   cargo test -j "$jobs" --target "$host" -p drivers-logic -p host-tests
 
