@@ -123,6 +123,39 @@ pub fn period_for(speed: i16) -> u16 {
     }
 }
 
+/// A stepper without a timer: the same [`Stepper`] advanced by elapsed
+/// milliseconds, for the emulator's virtual board (and host simulations).
+/// Half-steps owed are kept in thousandths so no time is lost between calls.
+#[derive(Clone, Debug)]
+pub struct VirtualWheel {
+    stepper: Stepper,
+    owed: u32,
+}
+
+impl VirtualWheel {
+    /// A halted wheel.
+    pub const fn new(side: Side) -> Self {
+        VirtualWheel {
+            stepper: Stepper::new(side),
+            owed: 0,
+        }
+    }
+
+    /// Runs `ms` milliseconds at the current speed.
+    pub fn advance(&mut self, ms: u32) {
+        self.owed += ms * 2 * self.stepper.speed().unsigned_abs() as u32;
+        while self.owed >= 1000 {
+            self.stepper.on_tick();
+            self.owed -= 1000;
+        }
+    }
+
+    /// The stepper (speed, step counter).
+    pub fn stepper(&mut self) -> &mut Stepper {
+        &mut self.stepper
+    }
+}
+
 /// Differential drive: wheel speeds for a linear speed `v` and an angular term
 /// `w` (right = v − w, left = v + w, as in the seed's `setSpeed`), each
 /// clamped to ±[`MAX_SPEED`].
@@ -194,6 +227,21 @@ mod tests {
         assert_eq!(period_for(5000), 50); // clamped
         let mut s = Stepper::new(Side::Right);
         assert_eq!(s.set_speed(-3000), -MAX_SPEED);
+    }
+
+    #[test]
+    fn virtual_wheel_keeps_the_rate_across_uneven_calls() {
+        let mut w = VirtualWheel::new(Side::Right);
+        w.stepper().set_speed(600);
+        for ms in [1, 3, 7, 10, 979] {
+            w.advance(ms); // 1000 ms in all
+        }
+        assert_eq!(w.stepper().steps(), 600);
+        w.stepper().set_speed(-333);
+        for _ in 0..3000 {
+            w.advance(1);
+        }
+        assert_eq!(w.stepper().steps(), 600 - 999);
     }
 
     #[test]

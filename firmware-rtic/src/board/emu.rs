@@ -11,7 +11,7 @@ use super::Board;
 use crate::drivers::{config::ConfigStore, leds::Leds};
 use drivers_logic::ground::GroundReading;
 use drivers_logic::proximity::{ProxScan, SENSORS};
-use drivers_logic::stepper::{Side, Stepper};
+use drivers_logic::stepper::{Side, VirtualWheel};
 use rtic_monotonics::systick::prelude::*;
 use stm32f4xx_hal::{
     gpio::PinState,
@@ -52,20 +52,20 @@ fn selector() -> u8 {
     drivers_logic::selector::from_cmdline(&text[..len]).unwrap_or(SELECTOR)
 }
 
-/// Steppers without timers: the same [`Stepper`] logic, advanced by elapsed
+/// Steppers without timers: the same `Stepper` logic, advanced by elapsed
 /// milliseconds of the monotonic clock whenever the motors are touched.
 pub struct Motors {
-    wheels: [Stepper; 2],
-    /// Half-steps owed, in 1/1000 (speed × 2 per millisecond).
-    acc: [u32; 2],
+    wheels: [VirtualWheel; 2],
     last_ms: u32,
 }
 
 impl Motors {
     fn new() -> Self {
         Motors {
-            wheels: [Stepper::new(Side::Left), Stepper::new(Side::Right)],
-            acc: [0; 2],
+            wheels: [
+                VirtualWheel::new(Side::Left),
+                VirtualWheel::new(Side::Right),
+            ],
             last_ms: 0,
         }
     }
@@ -74,12 +74,8 @@ impl Motors {
         let now = crate::Mono::now().duration_since_epoch().as_millis();
         let elapsed = now.wrapping_sub(self.last_ms).min(1000);
         self.last_ms = now;
-        for (w, acc) in self.wheels.iter_mut().zip(self.acc.iter_mut()) {
-            *acc += elapsed * 2 * w.speed().unsigned_abs() as u32;
-            while *acc >= 1000 {
-                w.on_tick();
-                *acc -= 1000;
-            }
+        for w in &mut self.wheels {
+            w.advance(elapsed);
         }
     }
 
@@ -93,20 +89,23 @@ impl Motors {
     pub fn set_speeds(&mut self, left: i16, right: i16) -> (i16, i16) {
         self.sync();
         (
-            self.wheels[0].set_speed(left),
-            self.wheels[1].set_speed(right),
+            self.wheels[0].stepper().set_speed(left),
+            self.wheels[1].stepper().set_speed(right),
         )
     }
 
     /// Step counters (left, right), forward positive.
     pub fn steps(&mut self) -> (i32, i32) {
         self.sync();
-        (self.wheels[0].steps(), self.wheels[1].steps())
+        (
+            self.wheels[0].stepper().steps(),
+            self.wheels[1].stepper().steps(),
+        )
     }
 
     /// Whether both wheels are commanded to stand still.
     pub fn is_stopped(&mut self) -> bool {
-        self.wheels.iter().all(|w| w.speed() == 0)
+        self.wheels.iter_mut().all(|w| w.stepper().speed() == 0)
     }
 }
 
