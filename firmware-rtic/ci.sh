@@ -77,8 +77,14 @@ cargo run -q -j "$jobs" --target "$host" -p host-tests --bin size-report -- \
   "$tdir/firmware-epuck2.elf" "$tdir/firmware-qemu.elf"
 
 step "host unit tests and QEMU end-to-end test"
+log=$(mktemp)
 REQUIRE_QEMU=1 FIRMWARE_QEMU_ELF="$(realpath "$tdir/firmware-qemu.elf")" \
   timeout "${FIRMWARE_CI_TIMEOUT:-300}" \
-  cargo test -j "$jobs" --target "$host" -p drivers-logic -p host-tests
+  cargo test -j "$jobs" --target "$host" -p drivers-logic -p host-tests 2>&1 | tee "$log"
+passed=$(grep -o '[0-9]* passed' "$log" | awk '{s += $1} END {print s + 0}')
+failed=$(grep -o '[0-9]* failed' "$log" | awk '{s += $1} END {print s + 0}')
+rm -f "$log"
 
 step "done"
+# Plain summary line for CI's test counter.
+echo "firmware: $passed passed, $failed failed"
