@@ -37,6 +37,7 @@ impl Candidates {
         ctx: &Context<'_, M>,
         fields: &mut [DistField<F>],
         per_robot: usize,
+        spread: u32,
     ) -> Result<Option<Candidates>, PlanError>
     where
         M: AsRef<[Block]> + AsMut<[Block]>,
@@ -55,10 +56,20 @@ impl Candidates {
         let per_robot = per_robot.clamp(1, MAX_CANDIDATES / k);
         for (r, field) in ctx.robots.iter().zip(fields.iter_mut()) {
             let mut found = 0usize;
+            let bounds = ctx.map.bounds();
             field.compute(ctx.map, ctx.timing, r.pos, r.heading, |i, _| {
                 if ctx.map.is_frontier_at(i) {
+                    let taken = c.nodes.get(..c.m).unwrap_or(&[]);
+                    if spread > 0 {
+                        // One candidate per neighbourhood: robots get
+                        // distinct regions, not neighbouring nodes.
+                        let p = bounds.pos(i);
+                        if taken.iter().any(|&q| bounds.pos(q).manhattan(p) <= spread) {
+                            return Flow::Continue;
+                        }
+                    }
                     found += 1;
-                    if !c.nodes.get(..c.m).is_some_and(|s| s.contains(&i)) {
+                    if !taken.contains(&i) {
                         if let Some(slot) = c.nodes.get_mut(c.m) {
                             *slot = i;
                             c.m += 1;
@@ -113,6 +124,16 @@ impl Candidates {
         if let Some(v) = self.cost.get_mut(j).and_then(|r| r.get_mut(col)) {
             if *v < INF {
                 *v = (*v + x).min(INF);
+            }
+        }
+    }
+
+    /// Replaces the cost of robot `j` for column `col` by `f(cost)`
+    /// (forbidden pairs stay forbidden; results are capped below them).
+    pub(crate) fn map_cost(&mut self, j: usize, col: usize, f: impl FnOnce(i64) -> i64) {
+        if let Some(v) = self.cost.get_mut(j).and_then(|r| r.get_mut(col)) {
+            if *v < INF {
+                *v = f(*v).clamp(0, INF - 1);
             }
         }
     }
@@ -310,7 +331,7 @@ impl Assignment {
         F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
     {
         let k = ctx.robots.len();
-        let Some(c) = Candidates::collect(ctx, fields, k)? else {
+        let Some(c) = Candidates::collect(ctx, fields, k, 0)? else {
             return Ok(None);
         };
         if c.m == 0 {
@@ -390,7 +411,7 @@ where
         fields: &mut [DistField<F>],
     ) -> Result<Decision, PlanError> {
         let k = ctx.robots.len();
-        let Some(c) = Candidates::collect(ctx, fields, MAX_CANDIDATES)? else {
+        let Some(c) = Candidates::collect(ctx, fields, MAX_CANDIDATES, 0)? else {
             return match fields.first_mut() {
                 Some(f) => nearest_or_home(ctx, f),
                 None => Ok(Decision::STAY),

@@ -1,19 +1,21 @@
 //! Tempo: this project's strategy for the shortest makespan.
 //!
 //! The makespan ends when the last robot is home, so what matters is the
-//! slowest robot's explore-and-return time, not the sum of travel. Tempo:
+//! slowest robot's explore-and-return time. Tempo re-assigns the whole team
+//! at every decision (min-sum Hungarian on the true turn-aware travel
+//! times, so committed robots switch when a better split appears), on
+//! partial fields grown only as far as the candidates need, and a robot left
+//! without a share drives home at once instead of trailing another robot
+//! (it is woken again whenever the map grows).
 //!
-//! 1. re-assigns the whole team at every decision (min-sum Hungarian on the
-//!    true turn-aware travel times, so committed robots switch when a better
-//!    split appears), on partial fields grown only as far as the candidates;
-//! 2. exploits the completion rule: a frontier node with three visited
-//!    neighbours becomes known for free once its fourth neighbour is
-//!    visited, so it costs a little more and robots prefer nodes that open
-//!    new ground;
-//! 3. is return-aware in the endgame: once there are no more candidates
-//!    than robots, it minimises the *largest* travel-plus-way-home
-//!    (bottleneck), and a robot without a share goes home instead of
-//!    trailing another robot.
+//! Knobs tried and measured (docs/results/exploration.md), off by default
+//! because they did not pay on the benchmark fields:
+//! - a penalty on frontier nodes with three visited neighbours (they become
+//!   known for free once the fourth is visited);
+//! - a return-aware endgame: once candidates are no more than robots,
+//!   minimise the largest travel plus way home (bottleneck);
+//! - one candidate per neighbourhood (robots split into regions);
+//! - squared travel times (balancing shares).
 
 use super::assign::{AssignmentObjective, Candidates, hungarian_cols};
 use super::{Context, Decision, Strategy, explore_decision, go_home, nearest_or_home};
@@ -30,14 +32,22 @@ pub struct TempoConfig {
     pub endgame_return: bool,
     /// A robot without a share goes home.
     pub idle_home: bool,
+    /// Candidates closer than this Manhattan distance to a candidate taken
+    /// already are skipped, so that robots split into regions.
+    pub spread: u32,
+    /// Assign on squared travel times (in edges): a convex cost that
+    /// balances the robots' shares, between min-sum and min-max.
+    pub squared: bool,
 }
 
 impl Default for TempoConfig {
     fn default() -> Self {
         TempoConfig {
-            deduce_penalty_edges: 1,
-            endgame_return: true,
+            deduce_penalty_edges: 0,
+            endgame_return: false,
             idle_home: true,
+            spread: 0,
+            squared: false,
         }
     }
 }
@@ -65,7 +75,7 @@ where
     ) -> Result<Decision, PlanError> {
         let me = ctx.me;
         let k = ctx.robots.len();
-        let Some(mut c) = Candidates::collect(ctx, fields, k)? else {
+        let Some(mut c) = Candidates::collect(ctx, fields, k, self.config.spread)? else {
             return match fields.first_mut() {
                 Some(f) => nearest_or_home(ctx, f),
                 None => Ok(Decision::STAY),
@@ -76,6 +86,14 @@ where
                 Some(f) => go_home(ctx, f),
                 None => Ok(Decision::STAY),
             };
+        }
+        if self.config.squared {
+            let e = i64::from(ctx.timing.edge.max(1));
+            for j in 0..k {
+                for col in 0..c.m {
+                    c.map_cost(j, col, |x| x.saturating_mul(x) / e);
+                }
+            }
         }
         let pen = i64::from(self.config.deduce_penalty_edges) * i64::from(ctx.timing.edge);
         for col in 0..c.m {

@@ -53,19 +53,21 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
         "minpos" => Box::new(MinPos),
         "tempo" => Box::new(Tempo::default()),
         other => {
-            // `tempo:<deduce edges>:<endgame 0|1>:<idle home 0|1>` for
+            // `tempo:<deduce edges>:<endgame 0|1>:<idle home 0|1>:<spread>:<squared 0|1>` for
             // ablations.
             let rest = other.strip_prefix("tempo:")?;
             let v: Vec<u32> = rest
                 .split(':')
                 .map(|x| x.parse().ok())
                 .collect::<Option<_>>()?;
-            let [d, e, i] = v[..] else { return None };
+            let [d, e, i, s, q] = v[..] else { return None };
             Box::new(Tempo {
                 config: TempoConfig {
                     deduce_penalty_edges: d,
                     endgame_return: e != 0,
                     idle_home: i != 0,
+                    spread: s,
+                    squared: q != 0,
                 },
             })
         }
