@@ -136,17 +136,20 @@ pub const fn min_cells(area: usize) -> usize {
 /// `bounds`, without converting to a [`Pos`].
 pub fn neighbour_index(bounds: Bounds, i: usize, h: Heading) -> Option<usize> {
     let w = usize::from(bounds.width);
-    if w == 0 {
+    if w == 0 || i >= bounds.area() {
         return None;
     }
+    // Windows hold fewer than 2^32 nodes (a u16 square): a 32-bit
+    // remainder is exact and much cheaper than a 64-bit one.
+    let x = (i as u32) % u32::from(bounds.width);
     match h {
         Heading::North => {
             let j = i + w;
             (j < bounds.area()).then_some(j)
         }
         Heading::South => i.checked_sub(w),
-        Heading::East => (i % w + 1 < w).then_some(i + 1),
-        Heading::West => (i % w > 0).then(|| i - 1),
+        Heading::East => (x + 1 < u32::from(bounds.width)).then_some(i + 1),
+        Heading::West => (x > 0).then(|| i - 1),
     }
 }
 
@@ -161,6 +164,12 @@ pub fn arms_at<M: AsRef<[Block]> + AsMut<[Block]>>(map: &KnownMap<M>, i: usize) 
         return map.known_arms(map.bounds().pos(i));
     }
     None
+}
+
+/// `i mod cap` for `i < 2 cap`: ring arithmetic without a division.
+#[inline]
+fn wrap(i: usize, cap: usize) -> usize {
+    if i >= cap { i - cap } else { i }
 }
 
 /// Manhattan distance of two storage indices in a window of width `w`.
@@ -347,7 +356,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                                 if a_len == cap {
                                     return Err(PlanError::QueueFull);
                                 }
-                                if let Some(c) = cells.get_mut((a_head + a_len) % cap) {
+                                if let Some(c) = cells.get_mut(wrap(a_head + a_len, cap)) {
                                     c.ring_a = (v * 4 + h) as u32;
                                 }
                                 a_len += 1;
@@ -371,7 +380,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                             return Err(PlanError::QueueFull);
                         }
                         let entry = ((v * 4 + h) * 2 + dir) as u32;
-                        if let Some(c) = cells.get_mut((b_head + b_len) % cap) {
+                        if let Some(c) = cells.get_mut(wrap(b_head + b_len, cap)) {
                             c.ring_b = entry;
                         }
                         b_len += 1;
@@ -409,13 +418,13 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                         // Corrupt entries: drop them rather than loop forever.
                         a_len = a_len.saturating_sub(1);
                         b_len = b_len.saturating_sub(1);
-                        a_head = (a_head + 1) % cap;
-                        b_head = (b_head + 1) % cap;
+                        a_head = wrap(a_head + 1, cap);
+                        b_head = wrap(b_head + 1, cap);
                         continue;
                     }
                 };
                 let (v, h, key) = if take_a {
-                    a_head = (a_head + 1) % cap;
+                    a_head = wrap(a_head + 1, cap);
                     a_len -= 1;
                     let Some((s, key)) = a else { continue };
                     let h = s % 4;
@@ -425,7 +434,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                     };
                     (w, h, key)
                 } else {
-                    b_head = (b_head + 1) % cap;
+                    b_head = wrap(b_head + 1, cap);
                     b_len -= 1;
                     let Some((e, key)) = b else { continue };
                     let s = e / 2;
