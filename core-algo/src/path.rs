@@ -136,17 +136,20 @@ pub const fn min_cells(area: usize) -> usize {
 /// `bounds`, without converting to a [`Pos`].
 pub fn neighbour_index(bounds: Bounds, i: usize, h: Heading) -> Option<usize> {
     let w = usize::from(bounds.width);
-    if w == 0 {
+    if w == 0 || i >= bounds.area() {
         return None;
     }
+    // Windows hold fewer than 2^32 nodes (a u16 square): a 32-bit
+    // remainder is exact and much cheaper than a 64-bit one.
+    let x = (i as u32) % u32::from(bounds.width);
     match h {
         Heading::North => {
             let j = i + w;
             (j < bounds.area()).then_some(j)
         }
         Heading::South => i.checked_sub(w),
-        Heading::East => (i % w + 1 < w).then_some(i + 1),
-        Heading::West => (i % w > 0).then(|| i - 1),
+        Heading::East => (x + 1 < u32::from(bounds.width)).then_some(i + 1),
+        Heading::West => (x > 0).then(|| i - 1),
     }
 }
 
@@ -163,6 +166,12 @@ pub fn arms_at<M: AsRef<[Block]> + AsMut<[Block]>>(map: &KnownMap<M>, i: usize) 
     None
 }
 
+/// `i mod cap` for `i < 2 cap`: ring arithmetic without a division.
+#[inline]
+fn wrap(i: usize, cap: usize) -> usize {
+    if i >= cap { i - cap } else { i }
+}
+
 /// Manhattan distance of two storage indices in a window of width `w`.
 fn index_manhattan(w: usize, a: usize, b: usize) -> u32 {
     let (ax, ay) = (a % w, a / w);
@@ -177,6 +186,7 @@ fn index_manhattan(w: usize, a: usize, b: usize) -> u32 {
 /// on the host. The field stays readable until the next search.
 pub struct DistField<S> {
     cells: S,
+    queue: Queues,
     bounds: Bounds,
     start: Option<(usize, Heading)>,
     timing: Timing,
@@ -188,6 +198,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         storage.as_mut().fill(PlanCell::EMPTY);
         DistField {
             cells: storage,
+            queue: Queues::default(),
             bounds: Bounds::new(Pos::new(0, 0), 0, 0),
             start: None,
             timing: Timing::DEFAULT,
@@ -253,6 +264,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             cells.fill(PlanCell::EMPTY);
         }
         self.bounds = bounds;
+        self.queue = Queues::default();
         self.start = Some((s0, heading));
         self.timing = Timing {
             edge: timing.edge.max(1),
@@ -298,125 +310,157 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         mut reached: impl FnMut(usize, Ticks) -> Flow,
     ) -> Result<(), PlanError> {
         let s0 = self.prepare(map, timing, start, heading)?;
-        let t = self.timing;
-        let bounds = self.bounds;
-        let cap = self.cells.as_ref().len();
-        let (mut a_head, mut a_len, mut b_head, mut b_len) = (0usize, 0usize, 0usize, 0usize);
         let h0 = usize::from(heading.index());
+        self.queue = Queues::default();
         self.settle(s0, h0, 0);
+        self.queue.pending = Some((s0, h0, 0));
         if reached(s0, 0) == Flow::Stop {
             return Ok(());
         }
-        let mut pending = Some((s0, h0, 0u32));
-        loop {
-            if let Some((v, h, d)) = pending.take() {
-                // Expand the settled state (v, h) at distance d.
-                let Some(arms) = arms_at(map, v) else {
-                    continue;
-                };
-                let heading = Heading::from_index(h as u8);
-                let cells = self.cells.as_mut();
-                if arms.has(heading) && d + t.edge <= MAX_DIST {
-                    if let Some(w) = neighbour_index(bounds, v, heading) {
-                        if !cells.get(w).is_some_and(|c| c.settled(h)) {
-                            if a_len == cap {
-                                return Err(PlanError::QueueFull);
-                            }
-                            if let Some(c) = cells.get_mut((a_head + a_len) % cap) {
-                                c.ring_a = (v * 4 + h) as u32;
-                            }
-                            a_len += 1;
-                        }
-                    }
-                }
-                for (dir, h2) in [(0usize, (h + 1) & 3), (1, (h + 3) & 3)] {
-                    let Some(cv) = cells.get_mut(v) else { continue };
-                    let off = u32::from(cv.off.get(h).copied().unwrap_or(0)) + t.quarter_turn;
-                    if cv.settled(h2) || off >= u32::from(NO_OFF) {
-                        continue;
-                    }
-                    let Some(o) = cv.off.get_mut(h2) else {
+        self.resume(map, reached)
+    }
+
+    /// Continues a search that its callback stopped, over the same `map`
+    /// (unchanged since): nodes already reported are not reported again.
+    /// Lets a caller grow a field only as far as a question needs.
+    pub fn resume<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        mut reached: impl FnMut(usize, Ticks) -> Flow,
+    ) -> Result<(), PlanError> {
+        if self.start.is_none() {
+            return Ok(());
+        }
+        let t = self.timing;
+        let bounds = self.bounds;
+        let cap = self.cells.as_ref().len();
+        let Queues {
+            mut a_head,
+            mut a_len,
+            mut b_head,
+            mut b_len,
+            mut pending,
+        } = self.queue;
+        let result = (|| {
+            loop {
+                if let Some((v, h, d)) = pending.take() {
+                    // Expand the settled state (v, h) at distance d.
+                    let Some(arms) = arms_at(map, v) else {
                         continue;
                     };
-                    if off as u8 >= *o {
+                    let heading = Heading::from_index(h as u8);
+                    let cells = self.cells.as_mut();
+                    if arms.has(heading) && d + t.edge <= MAX_DIST {
+                        if let Some(w) = neighbour_index(bounds, v, heading) {
+                            if !cells.get(w).is_some_and(|c| c.settled(h)) {
+                                if a_len == cap {
+                                    return Err(PlanError::QueueFull);
+                                }
+                                if let Some(c) = cells.get_mut(wrap(a_head + a_len, cap)) {
+                                    c.ring_a = (v * 4 + h) as u32;
+                                }
+                                a_len += 1;
+                            }
+                        }
+                    }
+                    for (dir, h2) in [(0usize, (h + 1) & 3), (1, (h + 3) & 3)] {
+                        let Some(cv) = cells.get_mut(v) else { continue };
+                        let off = u32::from(cv.off.get(h).copied().unwrap_or(0)) + t.quarter_turn;
+                        if cv.settled(h2) || off >= u32::from(NO_OFF) {
+                            continue;
+                        }
+                        let Some(o) = cv.off.get_mut(h2) else {
+                            continue;
+                        };
+                        if off as u8 >= *o {
+                            continue;
+                        }
+                        *o = off as u8;
+                        if b_len == cap {
+                            return Err(PlanError::QueueFull);
+                        }
+                        let entry = ((v * 4 + h) * 2 + dir) as u32;
+                        if let Some(c) = cells.get_mut(wrap(b_head + b_len, cap)) {
+                            c.ring_b = entry;
+                        }
+                        b_len += 1;
+                    }
+                    continue;
+                }
+                if a_len == 0 && b_len == 0 {
+                    return Ok(());
+                }
+                let cells = self.cells.as_ref();
+                let key_of = |state: usize| -> Option<Ticks> {
+                    cells.get(state / 4).and_then(|c| c.pose_dist(state % 4))
+                };
+                let a = if a_len > 0 {
+                    cells
+                        .get(a_head)
+                        .map(|c| c.ring_a as usize)
+                        .and_then(|s| Some((s, key_of(s)? + t.edge)))
+                } else {
+                    None
+                };
+                let b = if b_len > 0 {
+                    cells
+                        .get(b_head)
+                        .map(|c| c.ring_b as usize)
+                        .and_then(|e| Some((e, key_of(e / 2)? + t.quarter_turn)))
+                } else {
+                    None
+                };
+                let take_a = match (a, b) {
+                    (Some((_, ka)), Some((_, kb))) => ka <= kb,
+                    (Some(_), None) => true,
+                    (None, Some(_)) => false,
+                    (None, None) => {
+                        // Corrupt entries: drop them rather than loop forever.
+                        a_len = a_len.saturating_sub(1);
+                        b_len = b_len.saturating_sub(1);
+                        a_head = wrap(a_head + 1, cap);
+                        b_head = wrap(b_head + 1, cap);
                         continue;
                     }
-                    *o = off as u8;
-                    if b_len == cap {
-                        return Err(PlanError::QueueFull);
-                    }
-                    let entry = ((v * 4 + h) * 2 + dir) as u32;
-                    if let Some(c) = cells.get_mut((b_head + b_len) % cap) {
-                        c.ring_b = entry;
-                    }
-                    b_len += 1;
-                }
-                continue;
-            }
-            if a_len == 0 && b_len == 0 {
-                return Ok(());
-            }
-            let cells = self.cells.as_ref();
-            let key_of = |state: usize| -> Option<Ticks> {
-                cells.get(state / 4).and_then(|c| c.pose_dist(state % 4))
-            };
-            let a = if a_len > 0 {
-                cells
-                    .get(a_head)
-                    .map(|c| c.ring_a as usize)
-                    .and_then(|s| Some((s, key_of(s)? + t.edge)))
-            } else {
-                None
-            };
-            let b = if b_len > 0 {
-                cells
-                    .get(b_head)
-                    .map(|c| c.ring_b as usize)
-                    .and_then(|e| Some((e, key_of(e / 2)? + t.quarter_turn)))
-            } else {
-                None
-            };
-            let take_a = match (a, b) {
-                (Some((_, ka)), Some((_, kb))) => ka <= kb,
-                (Some(_), None) => true,
-                (None, Some(_)) => false,
-                (None, None) => {
-                    // Corrupt entries: drop them rather than loop forever.
-                    a_len = a_len.saturating_sub(1);
-                    b_len = b_len.saturating_sub(1);
-                    a_head = (a_head + 1) % cap;
-                    b_head = (b_head + 1) % cap;
-                    continue;
-                }
-            };
-            let (v, h, key) = if take_a {
-                a_head = (a_head + 1) % cap;
-                a_len -= 1;
-                let Some((s, key)) = a else { continue };
-                let h = s % 4;
-                let Some(w) = neighbour_index(bounds, s / 4, Heading::from_index(h as u8)) else {
-                    continue;
                 };
-                (w, h, key)
-            } else {
-                b_head = (b_head + 1) % cap;
-                b_len -= 1;
-                let Some((e, key)) = b else { continue };
-                let s = e / 2;
-                let h2 = if e % 2 == 0 { (s + 1) & 3 } else { (s + 3) & 3 };
-                (s / 4, h2, key)
-            };
-            match self.settle(v, h, key) {
-                None => continue,
-                Some(true) => {
-                    if reached(v, key) == Flow::Stop {
-                        return Ok(());
+                let (v, h, key) = if take_a {
+                    a_head = wrap(a_head + 1, cap);
+                    a_len -= 1;
+                    let Some((s, key)) = a else { continue };
+                    let h = s % 4;
+                    let Some(w) = neighbour_index(bounds, s / 4, Heading::from_index(h as u8))
+                    else {
+                        continue;
+                    };
+                    (w, h, key)
+                } else {
+                    b_head = wrap(b_head + 1, cap);
+                    b_len -= 1;
+                    let Some((e, key)) = b else { continue };
+                    let s = e / 2;
+                    let h2 = if e % 2 == 0 { (s + 1) & 3 } else { (s + 3) & 3 };
+                    (s / 4, h2, key)
+                };
+                match self.settle(v, h, key) {
+                    None => continue,
+                    Some(true) => {
+                        pending = Some((v, h, key));
+                        if reached(v, key) == Flow::Stop {
+                            return Ok(());
+                        }
                     }
+                    Some(false) => pending = Some((v, h, key)),
                 }
-                Some(false) => {}
             }
-            pending = Some((v, h, key));
-        }
+        })();
+        self.queue = Queues {
+            a_head,
+            a_len,
+            b_head,
+            b_len,
+            pending,
+        };
+        result
     }
 
     /// A* from the pose (`start`, `heading`) to node `goal` with the same
@@ -616,6 +660,17 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         out.get_mut(..n)?.reverse();
         Some(n)
     }
+}
+
+/// Where a stopped search stands: the two FIFOs and the settled state
+/// still to expand.
+#[derive(Clone, Copy, Debug, Default)]
+struct Queues {
+    a_head: usize,
+    a_len: usize,
+    b_head: usize,
+    b_len: usize,
+    pending: Option<(usize, usize, Ticks)>,
 }
 
 /// A binary min-heap of (key, state) in the queue slots of the scratch.

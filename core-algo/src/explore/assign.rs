@@ -37,6 +37,7 @@ impl Candidates {
         ctx: &Context<'_, M>,
         fields: &mut [DistField<F>],
         per_robot: usize,
+        spread: u32,
     ) -> Result<Option<Candidates>, PlanError>
     where
         M: AsRef<[Block]> + AsMut<[Block]>,
@@ -55,18 +56,52 @@ impl Candidates {
         let per_robot = per_robot.clamp(1, MAX_CANDIDATES / k);
         for (r, field) in ctx.robots.iter().zip(fields.iter_mut()) {
             let mut found = 0usize;
+            let bounds = ctx.map.bounds();
             field.compute(ctx.map, ctx.timing, r.pos, r.heading, |i, _| {
-                if found < per_robot && ctx.map.is_frontier_at(i) {
+                if ctx.map.is_frontier_at(i) {
+                    let taken = c.nodes.get(..c.m).unwrap_or(&[]);
+                    if spread > 0 {
+                        // One candidate per neighbourhood: robots get
+                        // distinct regions, not neighbouring nodes.
+                        let p = bounds.pos(i);
+                        if taken.iter().any(|&q| bounds.pos(q).manhattan(p) <= spread) {
+                            return Flow::Continue;
+                        }
+                    }
                     found += 1;
-                    if !c.nodes.get(..c.m).is_some_and(|s| s.contains(&i)) {
+                    if !taken.contains(&i) {
                         if let Some(slot) = c.nodes.get_mut(c.m) {
                             *slot = i;
                             c.m += 1;
                         }
                     }
+                    if found >= per_robot {
+                        return Flow::Stop;
+                    }
                 }
                 Flow::Continue
             })?;
+        }
+        // Grow every field only until it has reached every candidate.
+        let nodes = c.nodes;
+        let m = c.m;
+        let cands = nodes.get(..m).unwrap_or(&[]);
+        for field in fields.iter_mut().take(k) {
+            let mut missing = cands
+                .iter()
+                .filter(|&&i| field.dist_at(i).is_none())
+                .count();
+            if missing > 0 {
+                field.resume(ctx.map, |i, _| {
+                    if ctx.map.is_frontier_at(i) && cands.contains(&i) {
+                        missing -= 1;
+                        if missing == 0 {
+                            return Flow::Stop;
+                        }
+                    }
+                    Flow::Continue
+                })?;
+            }
         }
         for (j, (r, field)) in ctx.robots.iter().zip(fields.iter()).enumerate() {
             for col in 0..c.m {
@@ -81,6 +116,33 @@ impl Candidates {
             }
         }
         Ok(Some(c))
+    }
+
+    /// Adds `x` to the cost of robot `j` for column `col` (forbidden pairs
+    /// stay forbidden).
+    pub(crate) fn add(&mut self, j: usize, col: usize, x: i64) {
+        if let Some(v) = self.cost.get_mut(j).and_then(|r| r.get_mut(col)) {
+            if *v < INF {
+                *v = (*v + x).min(INF);
+            }
+        }
+    }
+
+    /// Replaces the cost of robot `j` for column `col` by `f(cost)`
+    /// (forbidden pairs stay forbidden; results are capped below them).
+    pub(crate) fn map_cost(&mut self, j: usize, col: usize, f: impl FnOnce(i64) -> i64) {
+        if let Some(v) = self.cost.get_mut(j).and_then(|r| r.get_mut(col)) {
+            if *v < INF {
+                *v = f(*v).clamp(0, INF - 1);
+            }
+        }
+    }
+
+    /// Forbids robot `j` column `col`.
+    pub(crate) fn forbid(&mut self, j: usize, col: usize) {
+        if let Some(v) = self.cost.get_mut(j).and_then(|r| r.get_mut(col)) {
+            *v = INF;
+        }
     }
 
     fn at(&self, j: usize, col: usize) -> i64 {
@@ -226,6 +288,18 @@ fn bottleneck_threshold(c: &Candidates) -> i64 {
     vals.get(lo).copied().unwrap_or(INF)
 }
 
+/// The column of every row under `objective`.
+pub(crate) fn hungarian_cols(
+    c: &Candidates,
+    objective: AssignmentObjective,
+) -> [Option<usize>; MAX_ROBOTS] {
+    let cap = match objective {
+        AssignmentObjective::MinSum => INF - 1,
+        AssignmentObjective::MinMax => bottleneck_threshold(c),
+    };
+    hungarian(c, cap)
+}
+
 /// What an [`Assignment`] minimises.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum AssignmentObjective {
@@ -257,17 +331,13 @@ impl Assignment {
         F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
     {
         let k = ctx.robots.len();
-        let Some(c) = Candidates::collect(ctx, fields, k)? else {
+        let Some(c) = Candidates::collect(ctx, fields, k, 0)? else {
             return Ok(None);
         };
         if c.m == 0 {
             return Ok(Some([None; MAX_ROBOTS]));
         }
-        let cap = match objective {
-            AssignmentObjective::MinSum => INF - 1,
-            AssignmentObjective::MinMax => bottleneck_threshold(&c),
-        };
-        let cols = hungarian(&c, cap);
+        let cols = hungarian_cols(&c, objective);
         let mut out = [None; MAX_ROBOTS];
         for (o, col) in out.iter_mut().zip(cols.iter()) {
             *o = col.and_then(|x| c.nodes.get(x).copied());
@@ -341,7 +411,7 @@ where
         fields: &mut [DistField<F>],
     ) -> Result<Decision, PlanError> {
         let k = ctx.robots.len();
-        let Some(c) = Candidates::collect(ctx, fields, MAX_CANDIDATES)? else {
+        let Some(c) = Candidates::collect(ctx, fields, MAX_CANDIDATES, 0)? else {
             return match fields.first_mut() {
                 Some(f) => nearest_or_home(ctx, f),
                 None => Ok(Decision::STAY),

@@ -30,7 +30,7 @@ pub use assign::{Assignment, AssignmentObjective, BurgardGreedy};
 pub use layers::{CooperationLayer, Layer, ResidualLayer, SeedConfig, SeedExplorer};
 pub use minpos::MinPos;
 pub use nearest::{GreedyClaim, NearestFrontier};
-pub use tempo::Tempo;
+pub use tempo::{Tempo, TempoConfig};
 
 /// The largest team a centralised strategy plans for at once. The seed plans
 /// for six robots; eight leaves room for the simulator's larger teams.

@@ -1,20 +1,63 @@
 //! Tempo: this project's strategy for the shortest makespan.
 //!
 //! The makespan ends when the last robot is home, so what matters is the
-//! slowest robot's *explore-and-return* time, not the sum of travel. Tempo
-//! re-assigns the whole team at every decision (like the Hungarian rival,
-//! so committed robots can switch when a better split appears), on costs
-//! that are the true turn-aware travel times plus a return-home term that
-//! grows as the remaining frontier shrinks.
+//! slowest robot's explore-and-return time. Tempo re-assigns the whole team
+//! at every decision (min-sum Hungarian on the true turn-aware travel
+//! times, so committed robots switch when a better split appears), on
+//! partial fields grown only as far as the candidates need, and a robot left
+//! without a share drives home at once instead of trailing another robot
+//! (it is woken again whenever the map grows).
+//!
+//! Knobs tried and measured (docs/results/exploration.md), off by default
+//! because they did not pay on the benchmark fields:
+//! - a penalty on frontier nodes with three visited neighbours (they become
+//!   known for free once the fourth is visited);
+//! - a return-aware endgame: once candidates are no more than robots,
+//!   minimise the largest travel plus way home (bottleneck);
+//! - one candidate per neighbourhood (robots split into regions);
+//! - squared travel times (balancing shares).
 
-use super::assign::{Assignment, AssignmentObjective};
-use super::{Context, Decision, Strategy, explore_decision, nearest_or_home};
+use super::assign::{AssignmentObjective, Candidates, hungarian_cols};
+use super::{Context, Decision, Strategy, explore_decision, go_home, nearest_or_home};
 use crate::map::Block;
-use crate::path::{DistField, PlanCell, PlanError};
+use crate::path::{DistField, Flow, PlanCell, PlanError};
+
+/// Tempo's knobs; [`Default`] holds the benchmarked values.
+#[derive(Clone, Copy, Debug)]
+pub struct TempoConfig {
+    /// Extra cost, in edges, of a frontier node with three visited
+    /// neighbours.
+    pub deduce_penalty_edges: u32,
+    /// In the endgame, minimise the largest travel plus way home.
+    pub endgame_return: bool,
+    /// A robot without a share goes home.
+    pub idle_home: bool,
+    /// Candidates closer than this Manhattan distance to a candidate taken
+    /// already are skipped, so that robots split into regions.
+    pub spread: u32,
+    /// Assign on squared travel times (in edges): a convex cost that
+    /// balances the robots' shares, between min-sum and min-max.
+    pub squared: bool,
+}
+
+impl Default for TempoConfig {
+    fn default() -> Self {
+        TempoConfig {
+            deduce_penalty_edges: 0,
+            endgame_return: false,
+            idle_home: true,
+            spread: 0,
+            squared: false,
+        }
+    }
+}
 
 /// See the module docs.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Tempo;
+pub struct Tempo {
+    /// Its knobs.
+    pub config: TempoConfig,
+}
 
 impl<M, F> Strategy<M, F> for Tempo
 where
@@ -31,16 +74,86 @@ where
         fields: &mut [DistField<F>],
     ) -> Result<Decision, PlanError> {
         let me = ctx.me;
-        match Assignment::assign(AssignmentObjective::MinSum, ctx, fields)? {
-            Some(a) => match (a.get(me).copied().flatten(), fields.get_mut(me)) {
-                (Some(i), Some(f)) => Ok(explore_decision(ctx, f, i)),
-                (None, Some(f)) => nearest_or_home(ctx, f),
-                (_, None) => Ok(Decision::STAY),
-            },
-            None => match fields.first_mut() {
+        let k = ctx.robots.len();
+        let Some(mut c) = Candidates::collect(ctx, fields, k, self.config.spread)? else {
+            return match fields.first_mut() {
                 Some(f) => nearest_or_home(ctx, f),
                 None => Ok(Decision::STAY),
-            },
+            };
+        };
+        if c.m == 0 {
+            return match fields.get_mut(me) {
+                Some(f) => go_home(ctx, f),
+                None => Ok(Decision::STAY),
+            };
+        }
+        if self.config.squared {
+            let e = i64::from(ctx.timing.edge.max(1));
+            for j in 0..k {
+                for col in 0..c.m {
+                    c.map_cost(j, col, |x| x.saturating_mul(x) / e);
+                }
+            }
+        }
+        let pen = i64::from(self.config.deduce_penalty_edges) * i64::from(ctx.timing.edge);
+        for col in 0..c.m {
+            let Some(&node) = c.nodes.get(col) else {
+                continue;
+            };
+            if ctx
+                .map
+                .cell_at(node)
+                .is_some_and(|x| x.visited_neighbours() == 3)
+            {
+                for j in 0..k {
+                    c.add(j, col, pen);
+                }
+            }
+        }
+        let endgame = self.config.endgame_return && c.m <= k && fields.len() >= 2 * k;
+        if endgame {
+            // Way home from every candidate, for every robot: fields from
+            // the homes (the graph is symmetric; the heading at home is
+            // free, so the cheapest over headings is used).
+            let (_, home_fields) = fields.split_at_mut(k);
+            for (j, (r, hf)) in ctx.robots.iter().zip(home_fields.iter_mut()).enumerate() {
+                let nodes = c.nodes;
+                let cands = nodes.get(..c.m).unwrap_or(&[]);
+                let mut missing = cands.len();
+                hf.compute(ctx.map, ctx.timing, r.home, r.heading, |i, _| {
+                    if cands.contains(&i) {
+                        missing -= 1;
+                        if missing == 0 {
+                            return Flow::Stop;
+                        }
+                    }
+                    Flow::Continue
+                })?;
+                for (col, &node) in cands.iter().enumerate() {
+                    match hf.dist_at(node) {
+                        Some(d) => c.add(j, col, i64::from(d)),
+                        None => c.forbid(j, col),
+                    }
+                }
+            }
+        }
+        let cols = if endgame {
+            hungarian_cols(&c, AssignmentObjective::MinMax)
+        } else {
+            hungarian_cols(&c, AssignmentObjective::MinSum)
+        };
+        let mine = cols
+            .get(me)
+            .copied()
+            .flatten()
+            .and_then(|x| c.nodes.get(x).copied());
+        let Some(f) = fields.get_mut(me) else {
+            return Ok(Decision::STAY);
+        };
+        match mine {
+            Some(i) => Ok(explore_decision(ctx, f, i)),
+            None if self.config.idle_home => go_home(ctx, f),
+            None => nearest_or_home(ctx, f),
         }
     }
 }

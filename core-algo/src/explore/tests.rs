@@ -1,1 +1,149 @@
+use super::*;
+use crate::geometry::Arms;
+use crate::map::{Bounds, blocks_for};
+use crate::path::min_cells;
+use crate::team::RobotId;
+use std::vec;
+use std::vec::Vec;
 
+fn open_row_map() -> KnownMap<Vec<Block>> {
+    // A 12 × 3 window; the middle row y = 1 from x = 0..=5 visited, every
+    // node a cross, so the frontier runs along y = 0, y = 2 and x = 6.
+    let b = Bounds::new(Pos::new(0, 0), 12, 3);
+    let mut m = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).unwrap();
+    for x in 0..6 {
+        m.visit(
+            Pos::new(x, 1),
+            Arms::CROSS
+                .without(if x == 0 {
+                    Heading::West
+                } else {
+                    Heading::North
+                })
+                .with(Heading::North),
+            RobotId(0),
+        )
+        .unwrap();
+    }
+    m
+}
+
+fn view(pos: Pos, target: Option<Pos>) -> RobotView {
+    RobotView {
+        pos,
+        heading: Heading::East,
+        eta: 0,
+        home: pos,
+        target,
+    }
+}
+
+#[test]
+fn cooperation_penalty_follows_the_seed_numbers() {
+    let m = open_row_map();
+    let layer = CooperationLayer { peak: 5, radius: 4 };
+    assert_eq!(
+        (0..6).map(|d| layer.penalty_edges(d)).collect::<Vec<_>>(),
+        [5, 4, 3, 2, 1, 0]
+    );
+    // Another robot announced (3, 2). Its own node +5; (4, 2) is one step
+    // along the unknown row above the known row: +4 (an edge between two
+    // unknown nodes does not block); (3, 0) is two away across the known
+    // node (3, 1): +3; (6, 1) lies three away but the direct routes pass
+    // unknown nodes (4, 2), (5, 2), (6, 2) or known ones with arms: the
+    // route (3,2)→(4,2) is open, (4,2)→(4,1) needs (4,1)'s north arm.
+    let robots = [
+        view(Pos::new(0, 1), None),
+        view(Pos::new(5, 1), Some(Pos::new(3, 2))),
+    ];
+    let ctx = Context {
+        map: &m,
+        timing: Timing::DEFAULT,
+        robots: &robots,
+        me: 0,
+    };
+    let e = Timing::DEFAULT.edge;
+    let cost = |p: Pos| layer.cost(&ctx, m.bounds().index(p).unwrap(), p);
+    assert_eq!(cost(Pos::new(3, 2)), 5 * e);
+    assert_eq!(cost(Pos::new(3, 0)), 3 * e);
+    assert_eq!(cost(Pos::new(8, 2)), 0, "beyond the radius");
+    // Robot 0 ignores its own announcement.
+    let ctx_self = Context { me: 1, ..ctx };
+    assert_eq!(
+        layer.cost(
+            &ctx_self,
+            m.bounds().index(Pos::new(3, 2)).unwrap(),
+            Pos::new(3, 2)
+        ),
+        0
+    );
+}
+
+#[test]
+fn a_wall_blocks_the_direct_route() {
+    // Two known nodes side by side without an arm between them: the route
+    // from the frontier north of one to the frontier north of the other
+    // (Manhattan 1) is open (both unknown), but from north of one to south
+    // of the other (Manhattan 3) every monotone route crosses the wall.
+    let b = Bounds::new(Pos::new(0, 0), 2, 3);
+    let mut m = KnownMap::new(vec![Block::EMPTY; 1], b).unwrap();
+    let ns = Arms::NONE.with(Heading::North).with(Heading::South);
+    m.visit(Pos::new(0, 1), ns, RobotId(0)).unwrap();
+    m.visit(Pos::new(1, 1), ns, RobotId(0)).unwrap();
+    assert!(CooperationLayer::direct_route_open(
+        &m,
+        Pos::new(0, 2),
+        Pos::new(1, 2)
+    ));
+    assert!(!CooperationLayer::direct_route_open(
+        &m,
+        Pos::new(0, 2),
+        Pos::new(1, 0)
+    ));
+    assert!(CooperationLayer::direct_route_open(
+        &m,
+        Pos::new(0, 2),
+        Pos::new(0, 0)
+    ));
+}
+
+#[test]
+fn seed_explorer_prefers_unclaimed_ground_and_ties_go_south_west() {
+    let m = open_row_map();
+    let mut fields = vec![DistField::new(vec![
+        PlanCell::EMPTY;
+        min_cells(m.bounds().area())
+    ])];
+    // Alone at (2, 1) facing east: (2, 0) and (2, 2) both cost one quarter
+    // turn and an edge; the southern one wins the tie.
+    let robots = [view(Pos::new(2, 1), None)];
+    let ctx = Context {
+        map: &m,
+        timing: Timing::DEFAULT,
+        robots: &robots,
+        me: 0,
+    };
+    let d = SeedExplorer::default().decide(&ctx, &mut fields).unwrap();
+    assert_eq!(d.goal, Goal::Frontier(Pos::new(2, 0)));
+    assert_eq!(d.next, Some(Heading::South));
+    // With another robot's target at (2, 0): (2, 0) costs T + E + 5E and
+    // (2, 2) costs T + E + 3E (open route through the known (2, 1)), while
+    // (4, 0) costs 3E + T with no penalty: the route along y = 0 crosses
+    // the unknown (3, 0).
+    let robots = [
+        view(Pos::new(2, 1), None),
+        view(Pos::new(0, 1), Some(Pos::new(2, 0))),
+    ];
+    let ctx = Context {
+        map: &m,
+        timing: Timing::DEFAULT,
+        robots: &robots,
+        me: 0,
+    };
+    let d = SeedExplorer::default().decide(&ctx, &mut fields).unwrap();
+    assert_eq!(d.goal, Goal::Frontier(Pos::new(4, 0)));
+    assert_eq!(d.next, Some(Heading::East));
+    // Nearest frontier ignores the other robot.
+    let d = NearestFrontier.decide(&ctx, &mut fields).unwrap();
+    assert_eq!(d.goal, Goal::Frontier(Pos::new(2, 0)));
+}

@@ -175,6 +175,19 @@ proptest! {
             let node = (0..4).filter_map(|k| want[v * 4 + k]).min();
             prop_assert_eq!(f.dist_at(v), node);
         }
+        // A search stopped anywhere and resumed gives the same field.
+        let stop_after = (seed % 7) as usize + 1;
+        let mut r = field_for(area);
+        let mut seen = Vec::new();
+        r.compute(&map, t, Pos::new(0, 0), Heading::from_index(h0), |i, d| {
+            seen.push((i, d));
+            if seen.len() == stop_after { Flow::Stop } else { Flow::Continue }
+        }).unwrap();
+        r.resume(&map, |i, d| {
+            seen.push((i, d));
+            Flow::Continue
+        }).unwrap();
+        prop_assert_eq!(&seen, &order);
         // Nodes are reported once each, nearest first.
         prop_assert!(order.windows(2).all(|p| p[0].1 <= p[1].1));
         // A* agrees with the field on every reachable node, and paths cost

@@ -14,7 +14,7 @@ use crate::field::generate::Kind;
 use crate::world::{self, DynStrategy, RunStats, Truth, WorldConfig};
 use core_algo::explore::{
     Assignment, AssignmentObjective, BurgardGreedy, GreedyClaim, MinPos, NearestFrontier,
-    SeedExplorer, Tempo,
+    SeedExplorer, Tempo, TempoConfig,
 };
 use core_algo::geometry::{Heading, Pos};
 use core_algo::timing::{DEFAULT_NODE_SPACING_MM, DEFAULT_SPEED_STEPS_PER_S, Ticks, Timing};
@@ -51,8 +51,26 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
             objective: AssignmentObjective::MinMax,
         }),
         "minpos" => Box::new(MinPos),
-        "tempo" => Box::new(Tempo),
-        _ => return None,
+        "tempo" => Box::new(Tempo::default()),
+        other => {
+            // `tempo:<deduce edges>:<endgame 0|1>:<idle home 0|1>:<spread>:<squared 0|1>` for
+            // ablations.
+            let rest = other.strip_prefix("tempo:")?;
+            let v: Vec<u32> = rest
+                .split(':')
+                .map(|x| x.parse().ok())
+                .collect::<Option<_>>()?;
+            let [d, e, i, s, q] = v[..] else { return None };
+            Box::new(Tempo {
+                config: TempoConfig {
+                    deduce_penalty_edges: d,
+                    endgame_return: e != 0,
+                    idle_home: i != 0,
+                    spread: s,
+                    squared: q != 0,
+                },
+            })
+        }
     })
 }
 
@@ -278,7 +296,12 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
     )?;
     let text = csv(&rows);
     match &args.csv {
-        Some(p) => std::fs::write(p, &text)?,
+        Some(p) => {
+            if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
+                std::fs::create_dir_all(dir)?;
+            }
+            std::fs::write(p, &text)?
+        }
         None => print!("{text}"),
     }
     std::fs::create_dir_all(&args.out)?;
