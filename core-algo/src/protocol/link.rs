@@ -215,6 +215,18 @@ impl Link {
         Ok(seq)
     }
 
+    /// Sends `message` the way its kind asks for ([`Message::is_reliable`]):
+    /// commands and events reliably (returns the sequence number), status
+    /// and log lines best-effort (returns `None`).
+    pub fn submit(&mut self, message: Message) -> Result<Option<u16>, SendError> {
+        if message.is_reliable() {
+            self.send(message).map(Some)
+        } else {
+            self.send_datagram(message);
+            Ok(None)
+        }
+    }
+
     /// Sends a message best-effort at the next chance. Only the newest one
     /// is kept: a status replaces an older status that was not yet sent.
     pub fn send_datagram(&mut self, message: Message) {

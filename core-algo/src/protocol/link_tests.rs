@@ -375,7 +375,19 @@ fn datagrams_are_best_effort_and_newest_wins() {
     let mut sim = Sim::new(9, PERFECT, 0);
     sim.run(100);
     sim.robot.send_datagram(Message::RequestStatus);
-    sim.robot.send_datagram(Message::Move);
+    let status = Message::Status(super::message::Status {
+        uptime_ms: 1,
+        pose: Pose {
+            pos: Pos::new(0, 0),
+            heading: Heading::North,
+        },
+        state: super::message::RobotState::Stopped,
+        floor: 0,
+        proximity: 0,
+    });
+    assert_eq!(sim.robot.submit(status.clone()), Ok(None));
+    assert_eq!(sim.robot.submit(Message::Move), Ok(Some(0)));
+    sim.robot.send_datagram(status.clone());
     sim.run(100);
     let got: Vec<_> = sim
         .phone_events
@@ -387,7 +399,8 @@ fn datagrams_are_best_effort_and_newest_wins() {
             _ => None,
         })
         .collect();
-    assert_eq!(got, [Message::Move]);
+    assert_eq!(got, [status]);
+    assert_eq!(reliable(&sim.phone_events), [Message::Move]);
 }
 
 /// The traffic budget of `docs/protocol.md`, measured: 24 reliable
