@@ -30,18 +30,23 @@
 //! * **Heartbeat.** An endpoint that sent nothing for `heartbeat_ms` sends
 //!   an empty [`Body::Ack`]; one that heard nothing for `link_timeout_ms`
 //!   reports [`Event::LinkLost`].
-//! * **Sessions.** Each endpoint picks a non-zero session number at start
-//!   (a boot counter or a random byte). A [`Body::Sync`] tells the peer the
-//!   session and first sequence number; the peer echoes the session in
-//!   every header (`peer_session`), and data is sent only while it does.
-//!   When a robot reboots, its new session makes the phone report
-//!   [`Event::PeerRestarted`] instead of mistaking the new sequence numbers
-//!   for duplicates; the robot then asks for the map it missed with
-//!   [`Message::ResyncRequest`] (see [`super::resync`]).
+//! * **Sessions.** Each endpoint starts from a random `u32` nonce (the
+//!   STM32's RNG, or the host's): its low byte is the session number (never
+//!   0), the next two bytes the first sequence number. A [`Body::Sync`]
+//!   tells the peer the session and first sequence number; the peer echoes
+//!   the session in every header (`peer_session`), and data is sent only
+//!   while it does. When a robot reboots, its new session makes the phone
+//!   report [`Event::PeerRestarted`] instead of mistaking the new sequence
+//!   numbers for duplicates; the robot then asks for the map it missed with
+//!   [`Message::ResyncRequest`] (see [`super::resync`]). Should a reboot
+//!   draw the same session byte (1 in 255), the Sync still gives it away:
+//!   within one session a Sync's sequence number is never more than
+//!   [`WINDOW`] behind what the receiver expects, and a random first
+//!   number almost never is.
 //!
 //! Memory: [`WINDOW`] queued and [`WINDOW`] early-arrived messages,
 //! [`EVENTS`] pending events, one best-effort message and one stream
-//! decoder, about 2 KiB in all (a test checks the bound).
+//! decoder, about 3.3 KiB in all (a test checks the bound).
 
 use heapless::Deque;
 
@@ -169,14 +174,17 @@ pub struct Link {
 }
 
 impl Link {
-    /// A new endpoint with address `local` and session `session` (0 is
-    /// reserved and replaced by 1). It starts by sending a Sync.
-    pub fn new(config: LinkConfig, local: RobotId, session: u8) -> Self {
+    /// A new endpoint with address `local`, started from `nonce`: a fresh
+    /// random number at every start (see the module documentation). Its low
+    /// byte is the session (0 is reserved and becomes 1), bits 8..24 the
+    /// first sequence number. It starts by sending a Sync.
+    pub fn new(config: LinkConfig, local: RobotId, nonce: u32) -> Self {
+        let [session, s0, s1, _] = nonce.to_le_bytes();
         Link {
             config,
             local,
             session: session.max(1),
-            next_seq: 0,
+            next_seq: u16::from_le_bytes([s0, s1]),
             queue: Deque::new(),
             retries: 0,
             datagram: None,
@@ -267,7 +275,11 @@ impl Link {
         }
         match frame.body {
             Body::Sync => {
-                if h.session != self.peer_session {
+                // A Sync of the current peer session is never more than a
+                // window behind `rx_next`; otherwise the peer restarted and
+                // happened to draw the same session byte.
+                let behind = usize::from(self.rx_next.wrapping_sub(h.seq));
+                if h.session != self.peer_session || behind > WINDOW {
                     if self.peer_session != 0 {
                         self.push_event(Event::PeerRestarted);
                     }

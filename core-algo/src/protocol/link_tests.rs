@@ -450,3 +450,19 @@ fn link_fits_the_robot_ram() {
     std::eprintln!("size_of::<Link>() = {size}");
     assert!(size < 4096, "{size} bytes");
 }
+
+#[test]
+fn reboot_that_draws_the_same_session_byte_is_still_detected() {
+    let mut sim = Sim::new(12, HOSTILE, 0);
+    exchange(&mut sim, 20, 60_000);
+    // Same session byte (1) as before, another first sequence number.
+    sim.robot = Link::new(LinkConfig::default(), RobotId(2), 0x00_9A_31_01);
+    sim.robot_events.clear();
+    sim.phone.send(command(500)).unwrap();
+    sim.robot.send(node_hit(7)).unwrap();
+    sim.run(20_000);
+    assert!(sim.phone_events.contains(&Event::PeerRestarted));
+    assert_eq!(reliable(&sim.robot_events), [command(500)]);
+    assert_eq!(reliable(&sim.phone_events).last(), Some(&node_hit(7)));
+    assert_eq!(sim.phone.unacked() + sim.robot.unacked(), 0);
+}
