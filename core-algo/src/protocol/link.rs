@@ -82,8 +82,10 @@ pub struct LinkConfig {
 }
 
 impl Default for LinkConfig {
-    /// 200 ms timeout, 6 retries (about 6 s with the back-off), a heartbeat
-    /// every 500 ms and loss after 2 s of silence (four missed heartbeats).
+    /// 200 ms timeout; loss after 6 retries, i.e. at the 7th consecutive
+    /// timeout, 12.6 s with the back-off (a peer that still sends heartbeats
+    /// but acknowledges nothing); a heartbeat every 500 ms; loss after 2 s
+    /// of silence (four missed heartbeats), which usually reports first.
     fn default() -> Self {
         LinkConfig {
             rto_ms: 200,
