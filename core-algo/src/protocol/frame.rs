@@ -1,7 +1,7 @@
 //! One checked frame: header, body and CRC, COBS-encoded between delimiters.
 //!
 //! ```text
-//! raw   = ver_kind sender session peer_session seq:u16le ack:u16le body.. crc32:u32le
+//! raw   = ver_kind sender session peer_session seq:u16le ack:u16le sack:u16le body.. crc32:u32le
 //! wire  = 0x00 COBS(raw) 0x00
 //! ```
 //!
@@ -29,18 +29,18 @@ pub const VERSION: u8 = 1;
 pub const PHONE: RobotId = RobotId(0xFE);
 
 /// Bytes before the body.
-pub const HEADER_LEN: usize = 8;
+pub const HEADER_LEN: usize = 10;
 
 /// Bytes of the CRC trailer.
 pub const CRC_LEN: usize = 4;
 
-/// Largest raw (un-COBSed) frame: header, largest message, CRC = 76 bytes.
+/// Largest raw (un-COBSed) frame: header, largest message, CRC = 78 bytes.
 pub const MAX_RAW_LEN: usize = HEADER_LEN + MAX_MESSAGE_LEN + CRC_LEN;
 
 /// Largest COBS-encoded frame without delimiters (one overhead byte per 254).
 pub const MAX_ENCODED_LEN: usize = cobs::max_encoding_length(MAX_RAW_LEN);
 
-/// Largest frame on the wire, both delimiters included: 79 bytes.
+/// Largest frame on the wire, both delimiters included: 81 bytes.
 ///
 /// This is what a receiver must buffer: the stream decoder holds one frame
 /// of [`MAX_ENCODED_LEN`] bytes, the link one raw frame per queued message.
@@ -94,6 +94,9 @@ pub struct Header {
     /// Cumulative acknowledgement: every data frame of session
     /// `peer_session` before `ack` has been delivered.
     pub ack: u16,
+    /// Selective acknowledgement: bit i set = data frame `ack + 1 + i` was
+    /// received and is buffered, so the sender need not send it again.
+    pub sack: u16,
 }
 
 /// A decoded frame.
@@ -148,6 +151,7 @@ impl Frame {
         let h = &self.header;
         let [s0, s1] = h.seq.to_le_bytes();
         let [a0, a1] = h.ack.to_le_bytes();
+        let [k0, k1] = h.sack.to_le_bytes();
         let header = [
             VERSION << 4 | self.body.kind(),
             h.sender.0,
@@ -157,6 +161,8 @@ impl Frame {
             s1,
             a0,
             a1,
+            k0,
+            k1,
         ];
         let (head, tail) = raw.split_at_mut(HEADER_LEN);
         head.copy_from_slice(&header);
@@ -206,7 +212,7 @@ impl Frame {
             return Err(FrameError::Crc);
         }
         let (head, body) = covered.split_at(HEADER_LEN);
-        let &[vk, sender, session, peer_session, s0, s1, a0, a1] = head else {
+        let &[vk, sender, session, peer_session, s0, s1, a0, a1, k0, k1] = head else {
             return Err(FrameError::TooShort);
         };
         if vk >> 4 != VERSION {
@@ -233,6 +239,7 @@ impl Frame {
                 peer_session,
                 seq: u16::from_le_bytes([s0, s1]),
                 ack: u16::from_le_bytes([a0, a1]),
+                sack: u16::from_le_bytes([k0, k1]),
             },
             body,
         })

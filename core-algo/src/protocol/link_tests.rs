@@ -375,7 +375,19 @@ fn datagrams_are_best_effort_and_newest_wins() {
     let mut sim = Sim::new(9, PERFECT, 0);
     sim.run(100);
     sim.robot.send_datagram(Message::RequestStatus);
-    sim.robot.send_datagram(Message::Move);
+    let status = Message::Status(super::message::Status {
+        uptime_ms: 1,
+        pose: Pose {
+            pos: Pos::new(0, 0),
+            heading: Heading::North,
+        },
+        state: super::message::RobotState::Stopped,
+        floor: 0,
+        proximity: 0,
+    });
+    assert_eq!(sim.robot.submit(status.clone()), Ok(None));
+    assert_eq!(sim.robot.submit(Message::Move), Ok(Some(0)));
+    sim.robot.send_datagram(status.clone());
     sim.run(100);
     let got: Vec<_> = sim
         .phone_events
@@ -387,5 +399,70 @@ fn datagrams_are_best_effort_and_newest_wins() {
             _ => None,
         })
         .collect();
-    assert_eq!(got, [Message::Move]);
+    assert_eq!(got, [status]);
+    assert_eq!(reliable(&sim.phone_events), [Message::Move]);
+}
+
+/// The traffic budget of `docs/protocol.md`, measured: 24 reliable
+/// messages per second to the robot (commands and relays of five team
+/// mates), 8 reliable and 2 status datagrams per second back, over the
+/// hostile channel. Prints bytes per second on the wire each way.
+#[test]
+fn budget_load_over_the_hostile_channel() {
+    let mut sim = Sim::new(11, HOSTILE, 0);
+    sim.run(1000);
+    let (p0, r0) = (sim.phone.tx_bytes(), sim.robot.tx_bytes());
+    let seconds = 60u32;
+    let (mut to_robot, mut to_phone) = (0u16, 0u16);
+    for t in 0..seconds * 1000 {
+        if t % 42 == 0 && sim.phone.send(command(to_robot)).is_ok() {
+            to_robot += 1;
+        }
+        if t % 125 == 0 && sim.robot.send(node_hit(to_phone)).is_ok() {
+            to_phone += 1;
+        }
+        if t % 500 == 0 {
+            sim.robot.send_datagram(Message::RequestStatus);
+        }
+        sim.step();
+    }
+    sim.run(20_000);
+    let phone_bps = (sim.phone.tx_bytes() - p0) / seconds;
+    let robot_bps = (sim.robot.tx_bytes() - r0) / seconds;
+    std::eprintln!(
+        "budget load: phone->robot {phone_bps} B/s ({} msgs), robot->phone {robot_bps} B/s \
+         ({} msgs), retransmissions {} / {}",
+        to_robot,
+        to_phone,
+        sim.phone.retransmissions(),
+        sim.robot.retransmissions()
+    );
+    assert_eq!(reliable(&sim.robot_events).len(), usize::from(to_robot));
+    assert_eq!(reliable(&sim.phone_events).len(), usize::from(to_phone));
+    assert!(to_robot > 1400, "the window kept up with the offered load");
+    // 5x headroom on a 115 200 baud link (11 520 B/s).
+    assert!(phone_bps * 5 < 11_520 && robot_bps * 5 < 11_520);
+}
+
+#[test]
+fn link_fits_the_robot_ram() {
+    let size = core::mem::size_of::<Link>();
+    std::eprintln!("size_of::<Link>() = {size}");
+    assert!(size < 4096, "{size} bytes");
+}
+
+#[test]
+fn reboot_that_draws_the_same_session_byte_is_still_detected() {
+    let mut sim = Sim::new(12, HOSTILE, 0);
+    exchange(&mut sim, 20, 60_000);
+    // Same session byte (1) as before, another first sequence number.
+    sim.robot = Link::new(LinkConfig::default(), RobotId(2), 0x00_9A_31_01);
+    sim.robot_events.clear();
+    sim.phone.send(command(500)).unwrap();
+    sim.robot.send(node_hit(7)).unwrap();
+    sim.run(20_000);
+    assert!(sim.phone_events.contains(&Event::PeerRestarted));
+    assert_eq!(reliable(&sim.robot_events), [command(500)]);
+    assert_eq!(reliable(&sim.phone_events).last(), Some(&node_hit(7)));
+    assert_eq!(sim.phone.unacked() + sim.robot.unacked(), 0);
 }

@@ -171,24 +171,27 @@ pub(crate) fn frame() -> impl Strategy<Value = Frame> {
         any::<u8>(),
         any::<u16>(),
         any::<u16>(),
-        0u8..4,
+        (0u8..4, any::<u16>()),
         message(),
     )
-        .prop_map(|(s, session, peer_session, seq, ack, kind, m)| Frame {
-            header: Header {
-                sender: RobotId(s),
-                session,
-                peer_session,
-                seq,
-                ack,
+        .prop_map(
+            |(s, session, peer_session, seq, ack, (kind, sack), m)| Frame {
+                header: Header {
+                    sender: RobotId(s),
+                    session,
+                    peer_session,
+                    seq,
+                    ack,
+                    sack,
+                },
+                body: match kind {
+                    0 => Body::Data(m),
+                    1 => Body::Datagram(m),
+                    2 => Body::Ack,
+                    _ => Body::Sync,
+                },
             },
-            body: match kind {
-                0 => Body::Data(m),
-                1 => Body::Datagram(m),
-                2 => Body::Ack,
-                _ => Body::Sync,
-            },
-        })
+        )
 }
 
 fn encode(f: &Frame) -> Vec<u8> {
@@ -328,7 +331,7 @@ fn largest_messages_fit_the_bound() {
         let n = m.encode(&mut buf).unwrap().len();
         assert!(n <= MAX_MESSAGE_LEN, "{m:?} takes {n} bytes");
     }
-    assert_eq!(MAX_FRAME_LEN, 79);
+    assert_eq!(MAX_FRAME_LEN, 81);
 }
 
 #[test]
@@ -340,6 +343,7 @@ fn node_hit_frame_size() {
             peer_session: 9,
             seq: 1000,
             ack: 2000,
+            sack: 0,
         },
         body: Body::Data(Message::NodeHit {
             pose: Pose {
@@ -349,8 +353,8 @@ fn node_hit_frame_size() {
             arms: Arms::CROSS,
         }),
     };
-    // 8 header + 5 message + 4 CRC = 17 raw, +1 COBS, +2 delimiters.
-    assert_eq!(encode(&f).len(), 20);
+    // 10 header + 5 message + 4 CRC = 19 raw, +1 COBS, +2 delimiters.
+    assert_eq!(encode(&f).len(), 22);
 }
 
 #[test]
@@ -387,6 +391,7 @@ fn wrong_version_and_kind_are_rejected() {
             peer_session: 2,
             seq: 3,
             ack: 4,
+            sack: 5,
         },
         body: Body::Ack,
     };
@@ -416,6 +421,7 @@ fn overlong_chunk_is_dropped_and_decoder_recovers() {
             peer_session: 0,
             seq: 0,
             ack: 0,
+            sack: 0,
         },
         body: Body::Data(Message::Move),
     };

@@ -64,7 +64,7 @@ pub(crate) struct LinkEnd {
 }
 
 impl LinkEnd {
-    pub fn new(config: core_algo::protocol::LinkConfig, session: u8) -> Self {
+    pub fn new(config: core_algo::protocol::LinkConfig, session: u32) -> Self {
         LinkEnd {
             link: core_algo::protocol::Link::new(config, core_algo::protocol::PHONE, session),
             outbox: std::collections::VecDeque::new(),

@@ -30,7 +30,7 @@ impl SerialRobot {
             id,
             name: path.to_string(),
             port,
-            end: LinkEnd::new(link, 1),
+            end: LinkEnd::new(link, fresh_nonce()),
             io_errors: 0,
         })
     }
@@ -39,6 +39,14 @@ impl SerialRobot {
     pub fn name(&self) -> &str {
         &self.name
     }
+}
+
+/// A fresh link nonce: the clock's nanoseconds, so that a restarted phone
+/// side starts a new session.
+fn fresh_nonce() -> u32 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(1, |d| d.subsec_nanos() ^ d.as_secs() as u32)
 }
 
 impl RobotProxy for SerialRobot {

@@ -21,7 +21,7 @@ impl SimRobot {
     pub fn new(id: RobotId, link: LinkConfig, faults: ChannelFaults, seed: u64) -> Self {
         SimRobot {
             id,
-            end: LinkEnd::new(link, 1),
+            end: LinkEnd::new(link, nonce(seed, 0x9E37_79B9)),
             down: Channel::new(faults, seed ^ 0x5eed_d0e5),
             up: Channel::new(faults, seed ^ 0x0005_eed0),
         }
@@ -31,6 +31,14 @@ impl SimRobot {
     pub fn channel_stats(&self) -> (ChannelStats, ChannelStats) {
         (self.down.stats(), self.up.stats())
     }
+}
+
+/// A link nonce drawn deterministically from a run's seed (a real endpoint
+/// draws a fresh random one at every start).
+pub fn nonce(seed: u64, salt: u32) -> u32 {
+    let x = seed ^ (u64::from(salt) << 17);
+    let x = x.wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    (x >> 32) as u32 ^ x as u32
 }
 
 impl RobotProxy for SimRobot {

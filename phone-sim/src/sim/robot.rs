@@ -84,11 +84,11 @@ pub struct SimFirmware {
 
 impl SimFirmware {
     /// Robot `id` with its agent.
-    pub fn new(id: RobotId, agent: HostAgent, link_config: LinkConfig, session: u8) -> Self {
+    pub fn new(id: RobotId, agent: HostAgent, link_config: LinkConfig, nonce: u32) -> Self {
         SimFirmware {
             id,
             agent,
-            link: Link::new(link_config, id, session),
+            link: Link::new(link_config, id, nonce),
             outbox: VecDeque::new(),
             finished: false,
             dead: false,
