@@ -53,7 +53,7 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
         "minpos" => Box::new(MinPos),
         "tempo" => Box::new(Tempo::default()),
         other => {
-            // `tempo:<deduce edges>:<endgame 0|1>:<idle home 0|1>:<spread>:<squared 0|1>` for
+            // `tempo:<deduce edges>:<endgame 0|1>:<idle: 0 trail, 1 home, 2 stay>:<spread>:<squared 0|1>` for
             // ablations.
             let rest = other.strip_prefix("tempo:")?;
             let v: Vec<u32> = rest
@@ -66,6 +66,7 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
                     deduce_penalty_edges: d,
                     endgame_return: e != 0,
                     idle_home: i != 0,
+                    idle_stay: i == 2,
                     spread: s,
                     squared: q != 0,
                 },
