@@ -159,7 +159,7 @@ where
         match mine {
             Some(i) => Ok(explore_decision(ctx, f, i)),
             None if self.config.idle_stay => Ok(Decision {
-                goal: super::Goal::Home,
+                goal: super::Goal::Wait,
                 next: None,
             }),
             None if self.config.idle_home => go_home(ctx, f),
