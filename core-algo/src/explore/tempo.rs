@@ -37,6 +37,10 @@ pub struct TempoConfig {
     /// A robot without a share waits where it is (it decides again when the
     /// map grows); takes precedence over `idle_home`.
     pub idle_stay: bool,
+    /// With `idle_stay`: a robot without a share still trails to its
+    /// nearest frontier node when that is at most this many edges of time
+    /// away (0: never).
+    pub trail_edges: u32,
     /// Candidates closer than this Manhattan distance to a candidate taken
     /// already are skipped, so that robots split into regions.
     pub spread: u32,
@@ -52,6 +56,7 @@ impl Default for TempoConfig {
             endgame_return: false,
             idle_home: true,
             idle_stay: true,
+            trail_edges: 0,
             spread: 0,
             squared: false,
         }
@@ -158,10 +163,20 @@ where
         };
         match mine {
             Some(i) => Ok(explore_decision(ctx, f, i)),
-            None if self.config.idle_stay => Ok(Decision {
-                goal: super::Goal::Wait,
-                next: None,
-            }),
+            None if self.config.idle_stay => {
+                let limit = self.config.trail_edges.saturating_mul(ctx.timing.edge);
+                if limit > 0 {
+                    if let Some((i, d)) = super::cheapest_frontier(ctx, f, |_, _, _| Some(0))? {
+                        if d <= limit {
+                            return Ok(explore_decision(ctx, f, i));
+                        }
+                    }
+                }
+                Ok(Decision {
+                    goal: super::Goal::Wait,
+                    next: None,
+                })
+            }
             None if self.config.idle_home => go_home(ctx, f),
             None => nearest_or_home(ctx, f),
         }
