@@ -18,9 +18,13 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod agent;
+pub mod behaviour;
+pub mod control;
 pub mod explore;
 pub mod geometry;
 pub mod map;
 pub mod path;
+pub mod protocol;
 pub mod team;
 pub mod timing;

@@ -111,6 +111,12 @@ impl fmt::Debug for NodeCell {
     }
 }
 
+/// An unvisited node whose shape follows from four visited neighbours, at
+/// least one of which has an arm into it (otherwise there is no node).
+const fn is_deduced(c: NodeCell) -> bool {
+    !c.is_visited() && c.visited_neighbours() == 4 && c.arms_into() > 0
+}
+
 /// 32 nodes and their frontier bits: the unit of map storage.
 #[derive(Clone, Copy, Debug)]
 pub struct Block {
@@ -279,6 +285,7 @@ pub struct KnownMap<S> {
     bounds: Bounds,
     visited: u32,
     frontier: u32,
+    deduced: u32,
 }
 
 impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
@@ -297,6 +304,7 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
             bounds,
             visited: 0,
             frontier: 0,
+            deduced: 0,
         })
     }
 
@@ -305,6 +313,7 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
         self.blocks.as_mut().fill(Block::EMPTY);
         self.visited = 0;
         self.frontier = 0;
+        self.deduced = 0;
     }
 
     /// The window this map covers.
@@ -315,6 +324,13 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
     /// Number of visited nodes.
     pub fn visited_len(&self) -> usize {
         self.visited as usize
+    }
+
+    /// Number of nodes whose shape is known: visited, or deduced (four
+    /// visited neighbours, at least one arm into the node). Kept
+    /// incrementally.
+    pub fn known_len(&self) -> usize {
+        (self.visited + self.deduced) as usize
     }
 
     /// Number of frontier nodes.
@@ -413,6 +429,9 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
             }));
         }
         let was_frontier = self.is_frontier_at(i);
+        if is_deduced(cell) {
+            self.deduced -= 1;
+        }
         self.update_cell(i, |c| {
             c.flags = VISITED | arms.bits();
             c.visits = visits;
@@ -427,7 +446,11 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
                 continue;
             };
             let into = u8::from(arms.has(h)) << INTO_SHIFT;
+            let before = self.cell_at(j).is_some_and(is_deduced);
             self.update_cell(j, |c| c.counts += 1 + into);
+            if !before && self.cell_at(j).is_some_and(is_deduced) {
+                self.deduced += 1;
+            }
             self.refresh_frontier(j);
         }
         Ok(Visit {

@@ -471,8 +471,33 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// [`DistField::first_heading`] work towards `goal`.
     ///
     /// The heap lives in the queue slots of the scratch; it holds at most
-    /// one entry per scratch cell ([`PlanError::QueueFull`] beyond that).
+    /// one entry per scratch cell. Lazy deletion can need more (expensive
+    /// turns on a cheap-edge field push many stale entries); then the search
+    /// is finished by the FIFO Dijkstra of [`DistField::compute`], which
+    /// gives the same cost with no extra memory.
     pub fn astar<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        start: Pos,
+        heading: Heading,
+        goal: Pos,
+    ) -> Result<Option<Ticks>, PlanError> {
+        match self.astar_heap(map, timing, start, heading, goal) {
+            Err(PlanError::QueueFull) => {
+                let Some(g) = map.bounds().index(goal) else {
+                    return Ok(None);
+                };
+                self.compute(map, timing, start, heading, |i, _| {
+                    if i == g { Flow::Stop } else { Flow::Continue }
+                })?;
+                Ok(self.dist_at(g))
+            }
+            other => other,
+        }
+    }
+
+    fn astar_heap<M: AsRef<[Block]> + AsMut<[Block]>>(
         &mut self,
         map: &KnownMap<M>,
         timing: Timing,
@@ -615,6 +640,19 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         self.walk_back(map, target, |_, h| first = Some(h))
             .then_some(first)
             .flatten()
+    }
+
+    /// Whether the cheapest path to node `target` drives through node
+    /// `via` (the target counts, the start does not). Used to keep out of a
+    /// team mate's way home.
+    pub fn path_passes<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        target: usize,
+        via: usize,
+    ) -> bool {
+        let mut hit = false;
+        self.walk_back(map, target, |v, _| hit |= v == via) && hit
     }
 
     /// Writes the nodes of the cheapest path to node `target` into `out`,

@@ -16,7 +16,7 @@ pub const DEMO_FIELD: &str = include_str!("../../fields/demo.field");
 #[derive(Parser, Debug)]
 #[command(name = "conquest", version, about, long_about = None)]
 pub struct Cli {
-    /// What to do; without a command, shows the demo field.
+    /// What to do; without a command, explores the demo field.
     #[command(subcommand)]
     pub command: Option<Command>,
 }
@@ -24,6 +24,8 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Subcommand, Debug)]
 pub enum Command {
+    /// Explore a field with simulated robots and report (the default).
+    Explore(crate::explore_cmd::ExploreArgs),
     /// Check a field file (.field, .sim, .sep, .map) and summarise it.
     Validate(ValidateArgs),
     /// Convert a field between formats (chosen by extension).
@@ -194,9 +196,13 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
             let f = demo_field()?;
             println!("{}", summary(&f));
             print!("{}", ascii::field(&f));
-            println!("(see `conquest --help` for the commands)");
+            println!();
+            let args = crate::explore_cmd::ExploreArgs::default();
+            crate::explore_cmd::run(&args)?;
+            println!("(see `conquest --help` for every command)");
             Ok(())
         }
+        Some(Command::Explore(a)) => crate::explore_cmd::run(&a),
         Some(Command::Validate(a)) => {
             let f = load(&a.file, a.read)?;
             println!("{}: ok: {}", a.file.display(), summary(&f));

@@ -9,6 +9,12 @@
 
 pub mod bench;
 pub mod cli;
+pub mod environment;
+pub mod explore_cmd;
 pub mod field;
+pub mod handlers;
+pub mod proxy;
 pub mod render;
+pub mod sensor_world;
+pub mod sim;
 pub mod world;

@@ -51,6 +51,7 @@ fn node_with_four_visited_neighbours_is_deduced_not_frontier() {
     assert!(!m.is_frontier(Pos::new(0, 0)));
     assert_eq!(m.known_arms(Pos::new(0, 0)), Some(arms(&[N, E, S])));
     assert!(m.is_complete());
+    assert_eq!(m.known_len(), 5);
 }
 
 #[test]
@@ -235,6 +236,9 @@ proptest! {
             prop_assert_eq!(m.frontier().collect::<Vec<_>>(), expected.clone());
             prop_assert_eq!(m.frontier_len(), expected.len());
             prop_assert_eq!(m.visited_len(), m.visited().count());
+            let b = m.bounds();
+            let known = (0..b.area()).map(|i| b.pos(i)).filter(|p| m.known_arms(*p).is_some_and(|a| m.is_visited(*p) || a.count() > 0)).count();
+            prop_assert_eq!(m.known_len(), known);
             // The map never holds two visited neighbours that disagree.
             for (p, c) in m.visited() {
                 let a = c.arms().unwrap();

@@ -1,0 +1,908 @@
+//! The robot's brain: events in, commands out.
+//!
+//! An [`Agent`] owns its robot's [`KnownMap`] (maps stay decentralised: each
+//! robot keeps its own copy, built from its own node hits and the reports
+//! other robots relay), a planner scratch field and a [`Strategy`]. It is a
+//! pure state machine like smoltcp's sockets: the caller feeds it [`Event`]s
+//! with the current time and carries out the [`Command`]s it returns. The
+//! same code runs in the firmware, in the simulator and on the phone side on
+//! behalf of a 2010 robot.
+//!
+//! ## Life of an agent
+//!
+//! `Idle` → (start) → `Explore` → (no reachable frontier) → `Return` →
+//! (home, team done) → `Finished`; `Manual` while a person steers; `Error`
+//! after repeated refusals. The robot decides only while it stands on a
+//! node: it reports the node, asks its strategy for a decision, announces a
+//! new target, turns if it must and drives one edge.
+//!
+//! ## Robustness
+//!
+//! - A move is only ever commanded along an arm the map knows to exist.
+//! - A collision sends the robot back to the node it left; it waits a
+//!   back-off that grows with each retry and differs by robot id (so two
+//!   robots that met head-on do not retry in lockstep), then decides again.
+//! - A refused command is retried after a back-off; after
+//!   [`MAX_REJECTS`] refusals in a row the agent stops in `Error`.
+//! - A teammate not heard from for [`AgentConfig::peer_timeout_ms`] counts
+//!   as failed: its target is freed and it no longer holds up the end.
+//! - A robot with nothing to do waits and decides again whenever its map
+//!   grows, so an unreachable frontier never stalls the team.
+
+use crate::explore::{Context, Decision, Goal, MAX_ROBOTS, RobotView, Strategy};
+use crate::geometry::{Arms, Heading, Pos, Turn};
+use crate::map::{Block, KnownMap, MapError};
+use crate::path::{DistField, Flow, PlanCell};
+use crate::team::RobotId;
+use crate::timing::{TICK_MS, Ticks, Timing};
+use heapless::Vec;
+
+#[cfg(test)]
+mod tests;
+
+/// Milliseconds since some epoch, wrapping (compare with `wrapping_sub`).
+pub type Millis = u32;
+
+/// Refusals in a row after which the agent gives up.
+pub const MAX_REJECTS: u8 = 5;
+
+/// The most commands one event can produce.
+pub const MAX_COMMANDS: usize = 6;
+
+/// The commands one event produced, in the order to carry them out.
+pub type Commands = Vec<Command, MAX_COMMANDS>;
+
+/// What the agent is doing.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Mode {
+    /// Not started.
+    Idle,
+    /// Agreeing on a frame with the team (see `localize`).
+    Localize,
+    /// Driving to frontier nodes.
+    Explore,
+    /// Nothing reachable left for this robot: driving home.
+    Return,
+    /// Home, and the team is done.
+    Finished,
+    /// A person steers.
+    Manual,
+    /// Gave up after repeated refusals or an inconsistent start.
+    Error,
+}
+
+/// News about another robot, relayed by the phone side.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum PeerNews {
+    /// It reached node `pos` facing `heading`, and the node has `arms`.
+    NodeHit {
+        /// The node.
+        pos: Pos,
+        /// The way it faces.
+        heading: Heading,
+        /// The node's arms, in the global frame.
+        arms: Arms,
+    },
+    /// It announced its target (`None`: it has none).
+    Intent {
+        /// The frontier node it is driving to.
+        target: Option<Pos>,
+    },
+    /// It is known to stand at a start pose (sent once at the start).
+    Start {
+        /// Its start node and home.
+        pos: Pos,
+        /// Its start heading.
+        heading: Heading,
+    },
+    /// It failed (link lost, stuck): forget its target.
+    Failed,
+}
+
+/// A manual order from the person steering this robot.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum ManualOrder {
+    /// Take over: finish the current edge, then wait for orders.
+    Take,
+    /// Hand back: explore again.
+    Release,
+    /// Turn on the node.
+    Turn(Turn),
+    /// Drive one edge straight on (refused where no arm is known).
+    Move,
+}
+
+/// Something that happened to or around the robot.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Event {
+    /// Begin at a pose of the team's frame.
+    Start {
+        /// The start node: this robot's home.
+        pos: Pos,
+        /// The start heading.
+        heading: Heading,
+    },
+    /// The robot stands on a node, with arms relative to its heading (bit 0
+    /// ahead, 1 right, 2 behind, 3 left), as its floor sensors saw them.
+    NodeHit {
+        /// Arms relative to the robot.
+        relative: Arms,
+    },
+    /// The robot met an obstacle on its edge and is back on the node it
+    /// left, facing back the way it came.
+    Collision,
+    /// The robot refused the last command.
+    Rejected,
+    /// Standing still, the robot saw another robot come close from
+    /// `toward` and turn back: it stands in someone's way.
+    Bumped {
+        /// Where the other robot came from.
+        toward: Heading,
+    },
+    /// News about another robot.
+    Peer(RobotId, PeerNews),
+    /// An order from the person steering.
+    Manual(ManualOrder),
+    /// Time passes: timeouts and back-offs.
+    Tick,
+}
+
+/// An order to the robot's body or a message for the team.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Command {
+    /// Turn on the spot.
+    Turn(Turn),
+    /// Drive along the line to the next node.
+    Move,
+    /// Tell the team about this node (relayed to everyone).
+    Report {
+        /// The node.
+        pos: Pos,
+        /// Its arms, global frame.
+        arms: Arms,
+        /// The robot's heading there.
+        heading: Heading,
+    },
+    /// Tell the team this robot's target (`None`: no target).
+    Announce {
+        /// The frontier node.
+        target: Option<Pos>,
+    },
+    /// This robot is home and the team is done.
+    Finished,
+    /// Stop everything (error).
+    Stop,
+}
+
+/// Tunables of the agent.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct AgentConfig {
+    /// The one truth about timing.
+    pub timing: Timing,
+    /// A teammate silent for longer counts as failed.
+    pub peer_timeout_ms: Millis,
+    /// First back-off after a collision or refusal; doubled each retry.
+    pub backoff_ms: Millis,
+}
+
+impl Default for AgentConfig {
+    fn default() -> Self {
+        AgentConfig {
+            timing: Timing::DEFAULT,
+            peer_timeout_ms: 30_000,
+            backoff_ms: 400,
+        }
+    }
+}
+
+/// Why the agent could not take an event.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum AgentError {
+    /// The map refused the robot's own observation.
+    Map(MapError),
+    /// The event does not fit the current state (counted, ignored).
+    Unexpected,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Motion {
+    /// Standing on a node, free to decide.
+    Standing,
+    /// Waiting for the initial scan of the start node.
+    Scanning,
+    /// Driving from `from` towards `heading`.
+    Driving { from: Pos },
+    /// Standing, waiting until `until` before deciding again.
+    Waiting { until: Millis },
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+struct Peer {
+    known: bool,
+    failed: bool,
+    pos: Pos,
+    heading: Heading,
+    home: Pos,
+    target: Option<Pos>,
+    last_heard: Millis,
+}
+
+const NO_PEER: Peer = Peer {
+    known: false,
+    failed: false,
+    pos: Pos::new(0, 0),
+    heading: Heading::North,
+    home: Pos::new(0, 0),
+    target: None,
+    last_heard: 0,
+};
+
+/// The robot's brain; see the module docs.
+///
+/// `K` planner fields: one is enough for decentralised strategies (the
+/// firmware's choice, 16 bytes per node each); centralised ones (assignment,
+/// tempo) plan for the whole team and want one per robot.
+pub struct Agent<M, F, S, const K: usize> {
+    id: RobotId,
+    config: AgentConfig,
+    map: KnownMap<M>,
+    fields: [DistField<F>; K],
+    strategy: S,
+    mode: Mode,
+    motion: Motion,
+    pos: Pos,
+    heading: Heading,
+    home: Pos,
+    target: Option<Pos>,
+    peers: [Peer; MAX_ROBOTS],
+    retries: u8,
+    rejects: u8,
+    escaping: bool,
+    yielding: bool,
+    gated_since: Option<Millis>,
+    finished_sent: bool,
+    map_grew: bool,
+    now: Millis,
+    last_said: Millis,
+    ignored: u32,
+}
+
+impl<M, F, S, const K: usize> Agent<M, F, S, K>
+where
+    M: AsRef<[Block]> + AsMut<[Block]>,
+    F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+    S: Strategy<M, F>,
+{
+    /// An idle agent for robot `id` with an empty `map` (its window must hold
+    /// the field), planner scratch `fields` and a strategy.
+    pub fn new(
+        id: RobotId,
+        map: KnownMap<M>,
+        fields: [DistField<F>; K],
+        strategy: S,
+        config: AgentConfig,
+    ) -> Self {
+        Agent {
+            id,
+            config,
+            map,
+            fields,
+            strategy,
+            mode: Mode::Idle,
+            motion: Motion::Standing,
+            pos: Pos::new(0, 0),
+            heading: Heading::North,
+            home: Pos::new(0, 0),
+            target: None,
+            peers: [NO_PEER; MAX_ROBOTS],
+            retries: 0,
+            rejects: 0,
+            escaping: false,
+            yielding: false,
+            gated_since: None,
+            finished_sent: false,
+            map_grew: false,
+            now: 0,
+            last_said: 0,
+            ignored: 0,
+        }
+    }
+
+    /// This robot's id.
+    pub fn id(&self) -> RobotId {
+        self.id
+    }
+
+    /// The current mode.
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// Where the robot believes it stands (or last stood), and its heading.
+    pub fn pose(&self) -> (Pos, Heading) {
+        (self.pos, self.heading)
+    }
+
+    /// The robot's home (start node).
+    pub fn home(&self) -> Pos {
+        self.home
+    }
+
+    /// The announced target.
+    pub fn target(&self) -> Option<Pos> {
+        self.target
+    }
+
+    /// The robot's own map.
+    pub fn map(&self) -> &KnownMap<M> {
+        &self.map
+    }
+
+    /// Events that did not fit the state and were ignored.
+    pub fn ignored(&self) -> u32 {
+        self.ignored
+    }
+
+    /// Whether the robot stands on a node waiting for nothing but a decision
+    /// or a timer (not driving, not turning).
+    pub fn is_standing(&self) -> bool {
+        matches!(self.motion, Motion::Standing | Motion::Waiting { .. })
+    }
+
+    /// Takes one event at time `now`; returns the commands to carry out.
+    pub fn handle(&mut self, now: Millis, event: Event) -> Result<Commands, AgentError> {
+        self.now = now;
+        let mut out = Commands::new();
+        let result = match event {
+            Event::Start { pos, heading } => self.on_start(pos, heading, &mut out),
+            Event::NodeHit { relative } => self.on_node(relative, &mut out),
+            Event::Collision => self.on_collision(&mut out),
+            Event::Rejected => self.on_rejected(&mut out),
+            Event::Bumped { toward } => self.on_bumped(toward, &mut out),
+            Event::Peer(id, news) => self.on_peer(id, news, &mut out),
+            Event::Manual(order) => self.on_manual(order, &mut out),
+            Event::Tick => self.on_tick(&mut out),
+        };
+        if result.is_err() {
+            self.ignored = self.ignored.saturating_add(1);
+        }
+        if out
+            .iter()
+            .any(|c| matches!(c, Command::Report { .. } | Command::Announce { .. }))
+        {
+            self.last_said = now;
+        }
+        result.map(|()| out)
+    }
+
+    fn on_start(
+        &mut self,
+        pos: Pos,
+        heading: Heading,
+        out: &mut Commands,
+    ) -> Result<(), AgentError> {
+        if self.mode != Mode::Idle {
+            return Err(AgentError::Unexpected);
+        }
+        if !self.map.bounds().contains(pos) {
+            self.mode = Mode::Error;
+            push(out, Command::Stop);
+            return Err(AgentError::Map(MapError::OutOfBounds(pos)));
+        }
+        self.pos = pos;
+        self.heading = heading;
+        self.home = pos;
+        self.mode = Mode::Explore;
+        // The robot stands on its start node: the initial scan's node hit
+        // tells its shape, then the first decision follows.
+        self.motion = Motion::Scanning;
+        Ok(())
+    }
+
+    fn on_node(&mut self, relative: Arms, out: &mut Commands) -> Result<(), AgentError> {
+        if !matches!(self.motion, Motion::Driving { .. } | Motion::Scanning) {
+            return Err(AgentError::Unexpected);
+        }
+        let arms = Arms::from_relative(relative, self.heading);
+        self.motion = Motion::Standing;
+        let escaped = core::mem::take(&mut self.escaping);
+        self.retries = 0;
+        match self.map.visit(self.pos, arms, self.id) {
+            Ok(_) => {}
+            Err(MapError::Conflict(_)) => {
+                // Our own sensors disagree with the team's map: trust the
+                // map (a misread is likelier than a changed floor), but say
+                // what we saw so the phone side can count it.
+            }
+            Err(e) => {
+                self.mode = Mode::Error;
+                push(out, Command::Stop);
+                return Err(AgentError::Map(e));
+            }
+        }
+        push(
+            out,
+            Command::Report {
+                pos: self.pos,
+                arms,
+                heading: self.heading,
+            },
+        );
+        if escaped {
+            // Leave the other robots time to get home first: wait until
+            // every living teammate reported being home, or a time-out
+            // that differs by id so that two robots that both made way do
+            // not come back together.
+            let edge_ms = self.config.timing.edge.saturating_mul(TICK_MS);
+            let edges = 6 + 4 * u32::from(self.id.0 % 8);
+            self.yielding = true;
+            self.motion = Motion::Waiting {
+                until: self.now.wrapping_add(edge_ms.saturating_mul(edges)),
+            };
+        } else {
+            self.decide(out);
+        }
+        Ok(())
+    }
+
+    fn on_collision(&mut self, out: &mut Commands) -> Result<(), AgentError> {
+        let Motion::Driving { from } = self.motion else {
+            return Err(AgentError::Unexpected);
+        };
+        // Back on the node it left, facing back.
+        self.pos = from;
+        self.heading = self.heading.opposite();
+        self.retries = self.retries.saturating_add(1);
+        let wait = self.backoff();
+        self.motion = Motion::Waiting {
+            until: self.now.wrapping_add(wait),
+        };
+        let _ = out;
+        Ok(())
+    }
+
+    /// Makes way: a robot standing idle on someone's route (typically at
+    /// home, where another robot's way home may lead through) drives one
+    /// edge away from the other robot, waits, and plans again.
+    fn on_bumped(&mut self, toward: Heading, out: &mut Commands) -> Result<(), AgentError> {
+        if !self.is_standing()
+            || !matches!(self.mode, Mode::Explore | Mode::Return | Mode::Finished)
+        {
+            return Err(AgentError::Unexpected);
+        }
+        if self.mode == Mode::Finished {
+            // Someone still moves: we were wrong that the team is done.
+            self.mode = Mode::Return;
+            self.finished_sent = false;
+        }
+        let occupied = |p: Pos| {
+            self.peers
+                .iter()
+                .any(|q| q.known && !q.failed && q.pos == p)
+        };
+        let candidates = [
+            toward.opposite(),
+            toward.turned(Turn::Right),
+            toward.turned(Turn::Left),
+        ];
+        let escape = candidates
+            .into_iter()
+            .filter(|h| self.can_move(*h))
+            .min_by_key(|h| self.pos.step(*h).is_some_and(occupied));
+        let Some(h) = escape else {
+            return Err(AgentError::Unexpected);
+        };
+        self.escaping = true;
+        if let Some(t) = self.heading.turn_to(h) {
+            self.heading = h;
+            push(out, Command::Turn(t));
+        }
+        self.start_move(out);
+        Ok(())
+    }
+
+    fn on_rejected(&mut self, out: &mut Commands) -> Result<(), AgentError> {
+        self.rejects = self.rejects.saturating_add(1);
+        if self.rejects >= MAX_REJECTS {
+            self.mode = Mode::Error;
+            self.motion = Motion::Standing;
+            push(out, Command::Stop);
+            return Ok(());
+        }
+        // Whatever was refused did not happen: stand, wait, decide again.
+        if let Motion::Driving { from } = self.motion {
+            self.pos = from;
+        }
+        self.motion = Motion::Waiting {
+            until: self.now.wrapping_add(self.backoff()),
+        };
+        Ok(())
+    }
+
+    fn on_peer(
+        &mut self,
+        id: RobotId,
+        news: PeerNews,
+        out: &mut Commands,
+    ) -> Result<(), AgentError> {
+        if id == self.id {
+            return Err(AgentError::Unexpected);
+        }
+        let now = self.now;
+        let Some(peer) = self.peers.get_mut(id.index()) else {
+            return Err(AgentError::Unexpected);
+        };
+        peer.last_heard = now;
+        match news {
+            PeerNews::Start { pos, heading } => {
+                peer.known = true;
+                peer.failed = false;
+                peer.pos = pos;
+                peer.home = pos;
+                peer.heading = heading;
+            }
+            PeerNews::NodeHit { pos, heading, arms } => {
+                if !peer.known {
+                    peer.known = true;
+                    peer.home = pos;
+                }
+                peer.failed = false;
+                peer.pos = pos;
+                peer.heading = heading;
+                if let Ok(v) = self.map.visit(pos, arms, id) {
+                    self.map_grew |= v.first;
+                }
+            }
+            PeerNews::Intent { target } => {
+                peer.known = true;
+                peer.target = target;
+            }
+            PeerNews::Failed => {
+                peer.failed = true;
+                peer.target = None;
+            }
+        }
+        // A robot waiting for work looks again when the map grew.
+        if self.map_grew && matches!(self.motion, Motion::Standing) && self.mode != Mode::Manual {
+            self.map_grew = false;
+            self.decide(out);
+        }
+        self.check_finished(out);
+        Ok(())
+    }
+
+    fn on_manual(&mut self, order: ManualOrder, out: &mut Commands) -> Result<(), AgentError> {
+        match order {
+            ManualOrder::Take => {
+                if matches!(self.mode, Mode::Idle | Mode::Error) {
+                    return Err(AgentError::Unexpected);
+                }
+                self.mode = Mode::Manual;
+                if self.target.take().is_some() {
+                    push(out, Command::Announce { target: None });
+                }
+                if let Motion::Waiting { .. } = self.motion {
+                    self.motion = Motion::Standing;
+                }
+                Ok(())
+            }
+            ManualOrder::Release => {
+                if self.mode != Mode::Manual {
+                    return Err(AgentError::Unexpected);
+                }
+                self.mode = Mode::Explore;
+                self.finished_sent = false;
+                if matches!(self.motion, Motion::Standing) {
+                    self.decide(out);
+                }
+                Ok(())
+            }
+            ManualOrder::Turn(t) => {
+                if self.mode != Mode::Manual || !matches!(self.motion, Motion::Standing) {
+                    return Err(AgentError::Unexpected);
+                }
+                self.heading = self.heading.turned(t);
+                push(out, Command::Turn(t));
+                Ok(())
+            }
+            ManualOrder::Move => {
+                if self.mode != Mode::Manual || !matches!(self.motion, Motion::Standing) {
+                    return Err(AgentError::Unexpected);
+                }
+                if !self.can_move(self.heading) {
+                    return Err(AgentError::Unexpected);
+                }
+                self.start_move(out);
+                Ok(())
+            }
+        }
+    }
+
+    fn on_tick(&mut self, out: &mut Commands) -> Result<(), AgentError> {
+        let now = self.now;
+        let timeout = self.config.peer_timeout_ms;
+        let mut freed = false;
+        for p in self.peers.iter_mut().filter(|p| p.known && !p.failed) {
+            let silent = now.wrapping_sub(p.last_heard);
+            if silent > timeout && silent < u32::MAX / 2 {
+                p.failed = true;
+                p.target = None;
+                freed = true;
+            }
+        }
+        let manual = self.mode == Mode::Manual;
+        if self.yielding && matches!(self.motion, Motion::Waiting { .. }) && self.peers_home() {
+            self.motion = Motion::Waiting { until: now };
+        }
+        match self.motion {
+            Motion::Waiting { until } if now.wrapping_sub(until) < u32::MAX / 2 => {
+                self.motion = Motion::Standing;
+                self.yielding = false;
+                if !manual {
+                    self.decide(out);
+                }
+            }
+            Motion::Standing if (freed || self.map_grew) && !manual => {
+                self.map_grew = false;
+                self.decide(out);
+            }
+            _ => {}
+        }
+        // A robot standing still says nothing; a keep-alive tells the team
+        // it is alive, so that it is not taken for failed.
+        let quiet = now.wrapping_sub(self.last_said);
+        if self.is_standing()
+            && !matches!(self.mode, Mode::Idle | Mode::Error)
+            && quiet > timeout / 3
+            && quiet < u32::MAX / 2
+        {
+            self.last_said = now;
+            push(
+                out,
+                Command::Announce {
+                    target: self.target,
+                },
+            );
+        }
+        self.check_finished(out);
+        Ok(())
+    }
+
+    /// Says `Finished` once, when this robot stands at home, its map is
+    /// complete and every living teammate is home.
+    fn check_finished(&mut self, out: &mut Commands) {
+        if self.finished_sent
+            || !matches!(self.motion, Motion::Standing)
+            || !matches!(self.mode, Mode::Explore | Mode::Return)
+            || self.pos != self.home
+            || !self.team_done()
+        {
+            return;
+        }
+        self.finished_sent = true;
+        self.mode = Mode::Finished;
+        push(out, Command::Finished);
+    }
+
+    /// The team as this robot sees it, for the strategy.
+    fn views(&self) -> ([RobotView; MAX_ROBOTS], usize) {
+        let far: Ticks = u32::MAX / 4;
+        let mut views = [RobotView {
+            pos: self.pos,
+            heading: self.heading,
+            eta: far,
+            home: self.home,
+            target: None,
+        }; MAX_ROBOTS];
+        let mut n = self.id.index() + 1;
+        for (i, (v, p)) in views.iter_mut().zip(self.peers.iter()).enumerate() {
+            if i == self.id.index() {
+                v.eta = 0;
+                v.target = self.target;
+            } else if p.known {
+                n = n.max(i + 1);
+                *v = RobotView {
+                    pos: p.pos,
+                    heading: p.heading,
+                    eta: if p.failed { far } else { 0 },
+                    home: p.home,
+                    target: if p.failed { None } else { p.target },
+                };
+            }
+        }
+        (views, n.min(MAX_ROBOTS))
+    }
+
+    /// Asks the strategy and acts on its answer. Only called while standing.
+    fn decide(&mut self, out: &mut Commands) {
+        if matches!(self.mode, Mode::Idle | Mode::Error | Mode::Manual) {
+            return;
+        }
+        let (views, n) = self.views();
+        let robots = views.get(..n).unwrap_or(&views);
+        let ctx = Context {
+            map: &self.map,
+            timing: self.config.timing,
+            robots,
+            me: self.id.index(),
+        };
+        let decision = self
+            .strategy
+            .decide(&ctx, &mut self.fields)
+            .unwrap_or(Decision::STAY);
+        let decision = if matches!(decision.goal, Goal::Home | Goal::Done) && self.map.is_complete()
+        {
+            self.keep_out_of_the_way(decision)
+        } else {
+            decision
+        };
+        let target = decision.target();
+        if target != self.target {
+            self.target = target;
+            push(out, Command::Announce { target });
+        }
+        match decision.goal {
+            Goal::Frontier(_) => self.mode = Mode::Explore,
+            Goal::Home => self.mode = Mode::Return,
+            Goal::Done => {
+                if self.mode == Mode::Explore && self.map.is_complete() {
+                    self.mode = Mode::Return;
+                }
+            }
+            // Standing aside while others explore: keep the mode.
+            Goal::Wait => {}
+        }
+        let Some(h) = decision.next else {
+            if self.pos != self.home && (self.mode == Mode::Return || decision.goal == Goal::Wait) {
+                // Held back (or home unreachable for now): look again soon.
+                let edge_ms = self.config.timing.edge.saturating_mul(TICK_MS);
+                self.motion = Motion::Waiting {
+                    until: self.now.wrapping_add(edge_ms),
+                };
+            }
+            self.check_finished(out);
+            return;
+        };
+        if !self.can_move(h) {
+            // A strategy must not send us along an unknown arm; stay safe.
+            return;
+        }
+        match self.heading.turn_to(h) {
+            None => self.start_move(out),
+            Some(t) => {
+                // Turn and move go out together: the body turns on the node,
+                // then drives, without another round trip.
+                self.heading = h;
+                push(out, Command::Turn(t));
+                self.start_move(out);
+            }
+        }
+    }
+
+    /// Homecoming without deadlock: robots cannot pass each other on a
+    /// line, so a robot whose home lies on a returning team mate's way home
+    /// waits off every returning team mate's way, as near to its home as it
+    /// can, until they are in. Needs one planner field per team mate
+    /// (`K > 1`); with a single field the decision is kept as it is.
+    fn keep_out_of_the_way(&mut self, decision: Decision) -> Decision {
+        let bounds = self.map.bounds();
+        let Some(my_home) = bounds.index(self.home) else {
+            return decision;
+        };
+        let me = self.id.index();
+        let (timing, pos, heading) = (self.config.timing, self.pos, self.heading);
+        let map = &self.map;
+        let Some((mine, rest)) = self.fields.split_first_mut() else {
+            return decision;
+        };
+        // (field in `rest`, peer home index, peer goes first) of every
+        // returning team mate.
+        let mut pending: Vec<(usize, usize, bool), MAX_ROBOTS> = Vec::new();
+        let mut homes: Vec<Pos, MAX_ROBOTS> = Vec::new();
+        for (i, p) in self.peers.iter().enumerate() {
+            if i == me || !p.known || p.failed {
+                continue;
+            }
+            let _ = homes.push(p.home);
+            let slot = pending.len();
+            let (false, Some(h), Some(field)) =
+                (p.pos == p.home, bounds.index(p.home), rest.get_mut(slot))
+            else {
+                continue;
+            };
+            // A total order (by id), so that robots never wait for each
+            // other in a circle; a lower id whose way home is blocked by a
+            // higher id already home is handled by making way.
+            let first = i < me;
+            let result = field.compute(map, timing, p.pos, p.heading, |v, _| {
+                if v == h { Flow::Stop } else { Flow::Continue }
+            });
+            if result.is_ok() {
+                let _ = pending.push((slot, h, first));
+            }
+        }
+        let rest = &*rest;
+        let on_way = |v: usize, only_first: bool| {
+            pending
+                .iter()
+                .filter(|e| e.2 || !only_first)
+                .any(|&(s, h, _)| rest.get(s).is_some_and(|f| f.path_passes(map, h, v)))
+        };
+        let on_someones_way = |v: usize| on_way(v, false);
+        let gated = on_way(my_home, true);
+        // Never wait for ever: after a while, go and let the make-way
+        // behaviour sort it out.
+        let now = self.now;
+        let since = *self.gated_since.get_or_insert(now);
+        let patience = timing.edge.saturating_mul(TICK_MS).saturating_mul(40);
+        if !gated || now.wrapping_sub(since) > patience {
+            if !gated {
+                self.gated_since = None;
+            }
+            return decision;
+        }
+        // Gated: find the nearest node off every returning robot's way that
+        // is nobody's home, and go there (or stay, if here).
+        let mut spot = None;
+        let computed = mine.compute(map, timing, pos, heading, |v, _| {
+            if v != my_home && !homes.contains(&bounds.pos(v)) && !on_someones_way(v) {
+                spot = Some(v);
+                return Flow::Stop;
+            }
+            Flow::Continue
+        });
+        match (computed, spot) {
+            (Ok(()), Some(v)) => Decision {
+                goal: Goal::Home,
+                next: mine.first_heading(map, v),
+            },
+            _ => Decision::STAY,
+        }
+    }
+
+    fn start_move(&mut self, out: &mut Commands) {
+        let Some(next) = self.pos.step(self.heading) else {
+            return;
+        };
+        if !self.can_move(self.heading) {
+            self.motion = Motion::Standing;
+            return;
+        }
+        self.motion = Motion::Driving { from: self.pos };
+        self.pos = next;
+        push(out, Command::Move);
+    }
+
+    /// Whether the map knows an arm from the current node towards `h`.
+    fn can_move(&self, h: Heading) -> bool {
+        self.map.known_arms(self.pos).is_some_and(|a| a.has(h))
+    }
+
+    /// Every living teammate is home (as far as we know) and nothing is
+    /// left to explore.
+    fn team_done(&self) -> bool {
+        self.map.is_complete() && self.peers_home()
+    }
+
+    /// Every living teammate reported being on its home node.
+    fn peers_home(&self) -> bool {
+        self.peers
+            .iter()
+            .enumerate()
+            .filter(|(i, p)| *i != self.id.index() && p.known && !p.failed)
+            .all(|(_, p)| p.pos == p.home)
+    }
+
+    fn backoff(&self) -> Millis {
+        let shift = u32::from(self.retries.min(5));
+        let base = self.config.backoff_ms.max(TICK_MS);
+        base.saturating_mul(1 << shift) / 2 + base.saturating_mul(u32::from(self.id.0 % 8)) / 2
+    }
+}
+
+fn push(out: &mut Commands, c: Command) {
+    // MAX_COMMANDS covers the longest sequence one event can produce
+    // (report, announce, turn, move, finished); a full outbox drops the
+    // least important tail rather than panicking.
+    let _ = out.push(c);
+}

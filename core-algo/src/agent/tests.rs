@@ -1,0 +1,250 @@
+use super::*;
+use crate::explore::NearestFrontier;
+use crate::map::{Bounds, blocks_for};
+use crate::path::min_cells;
+use std::vec;
+use std::vec::Vec as StdVec;
+
+type TestAgent = Agent<StdVec<Block>, StdVec<PlanCell>, NearestFrontier, 1>;
+
+fn agent(id: u8) -> TestAgent {
+    let bounds = Bounds::new(Pos::new(-1, -1), 6, 6);
+    let map = KnownMap::new(vec![Block::EMPTY; blocks_for(bounds.area())], bounds).unwrap();
+    let field = DistField::new(vec![PlanCell::EMPTY; min_cells(bounds.area())]);
+    Agent::new(
+        RobotId(id),
+        map,
+        [field],
+        NearestFrontier,
+        AgentConfig::default(),
+    )
+}
+
+const N: Heading = Heading::North;
+const E: Heading = Heading::East;
+const S: Heading = Heading::South;
+const W: Heading = Heading::West;
+
+fn arms(hs: &[Heading]) -> Arms {
+    hs.iter().fold(Arms::NONE, |a, h| a.with(*h))
+}
+
+#[test]
+fn start_scan_then_turn_and_move_along_a_known_arm() {
+    let mut a = agent(0);
+    assert!(
+        a.handle(
+            0,
+            Event::Start {
+                pos: Pos::new(0, 0),
+                heading: N
+            }
+        )
+        .unwrap()
+        .is_empty()
+    );
+    // The scan sees one arm, to the east: relative to north, that is "right".
+    let out = a
+        .handle(
+            10,
+            Event::NodeHit {
+                relative: arms(&[E]).to_relative(N),
+            },
+        )
+        .unwrap();
+    assert_eq!(
+        out[0],
+        Command::Report {
+            pos: Pos::new(0, 0),
+            arms: arms(&[E]),
+            heading: N
+        }
+    );
+    assert!(out.contains(&Command::Announce {
+        target: Some(Pos::new(1, 0))
+    }));
+    assert!(out.contains(&Command::Turn(Turn::Right)));
+    assert_eq!(out.last(), Some(&Command::Move));
+    assert_eq!(a.pose(), (Pos::new(1, 0), E));
+}
+
+#[test]
+fn nothing_to_explore_means_finished_at_home() {
+    let mut a = agent(0);
+    a.handle(
+        0,
+        Event::Start {
+            pos: Pos::new(0, 0),
+            heading: N,
+        },
+    )
+    .unwrap();
+    // A lone dead end: the only frontier is east.
+    a.handle(
+        1,
+        Event::NodeHit {
+            relative: arms(&[E]).to_relative(N),
+        },
+    )
+    .unwrap();
+    // At (1, 0): arms west and nothing else.
+    let out = a
+        .handle(
+            2,
+            Event::NodeHit {
+                relative: arms(&[W]).to_relative(E),
+            },
+        )
+        .unwrap();
+    assert!(out.contains(&Command::Announce { target: None }));
+    assert_eq!(a.mode(), Mode::Return);
+    assert_eq!(out.last(), Some(&Command::Move));
+    let out = a
+        .handle(
+            3,
+            Event::NodeHit {
+                relative: arms(&[E]).to_relative(W),
+            },
+        )
+        .unwrap();
+    assert_eq!(out.last(), Some(&Command::Finished));
+    assert_eq!(a.mode(), Mode::Finished);
+}
+
+#[test]
+fn collision_backs_off_then_plans_again() {
+    let mut a = agent(3);
+    a.handle(
+        0,
+        Event::Start {
+            pos: Pos::new(0, 0),
+            heading: E,
+        },
+    )
+    .unwrap();
+    a.handle(
+        1,
+        Event::NodeHit {
+            relative: arms(&[E, W]).to_relative(E),
+        },
+    )
+    .unwrap();
+    assert_eq!(a.pose().0, Pos::new(1, 0));
+    // Met someone: back on (0, 0), facing west.
+    assert!(a.handle(100, Event::Collision).unwrap().is_empty());
+    assert_eq!(a.pose(), (Pos::new(0, 0), W));
+    assert!(a.is_standing());
+    // Nothing happens before the back-off ends...
+    assert!(!a.handle(101, Event::Tick).unwrap().contains(&Command::Move));
+    // ...then it plans again.
+    let out = a.handle(100 + 10_000, Event::Tick).unwrap();
+    assert!(out.contains(&Command::Move), "{out:?}");
+}
+
+#[test]
+fn manual_moves_only_along_known_arms() {
+    let mut a = agent(0);
+    a.handle(
+        0,
+        Event::Start {
+            pos: Pos::new(0, 0),
+            heading: N,
+        },
+    )
+    .unwrap();
+    a.handle(
+        1,
+        Event::NodeHit {
+            relative: arms(&[E, S]).to_relative(N),
+        },
+    )
+    .unwrap();
+    a.handle(2, Event::Collision).unwrap();
+    a.handle(3, Event::Manual(ManualOrder::Take)).unwrap();
+    assert_eq!(a.mode(), Mode::Manual);
+    let (pos, heading) = a.pose();
+    assert_eq!(pos, Pos::new(0, 0));
+    // Face north, where there is no arm: the move is refused.
+    if let Some(t) = heading.turn_to(N) {
+        a.handle(4, Event::Manual(ManualOrder::Turn(t))).unwrap();
+    }
+    assert_eq!(
+        a.handle(5, Event::Manual(ManualOrder::Move)),
+        Err(AgentError::Unexpected)
+    );
+    a.handle(6, Event::Manual(ManualOrder::Turn(Turn::Right)))
+        .unwrap();
+    assert_eq!(
+        a.handle(7, Event::Manual(ManualOrder::Move))
+            .unwrap()
+            .last(),
+        Some(&Command::Move)
+    );
+    // Handing back explores again once the robot stands on a node.
+    a.handle(
+        8,
+        Event::NodeHit {
+            relative: arms(&[W]).to_relative(E),
+        },
+    )
+    .unwrap();
+    a.handle(9, Event::Manual(ManualOrder::Release)).unwrap();
+    assert_ne!(a.mode(), Mode::Manual);
+}
+
+#[test]
+fn silent_peers_count_as_failed_and_free_their_target() {
+    let mut a = agent(0);
+    a.handle(
+        0,
+        Event::Start {
+            pos: Pos::new(0, 0),
+            heading: N,
+        },
+    )
+    .unwrap();
+    a.handle(
+        0,
+        Event::Peer(
+            RobotId(1),
+            PeerNews::Intent {
+                target: Some(Pos::new(2, 2)),
+            },
+        ),
+    )
+    .unwrap();
+    assert_eq!(a.peers[1].target, Some(Pos::new(2, 2)));
+    a.handle(40_000, Event::Tick).unwrap();
+    assert!(a.peers[1].failed);
+    assert_eq!(a.peers[1].target, None);
+}
+
+#[test]
+fn peer_reports_grow_the_map_and_conflicts_are_ignored() {
+    let mut a = agent(0);
+    a.handle(
+        0,
+        Event::Start {
+            pos: Pos::new(0, 0),
+            heading: N,
+        },
+    )
+    .unwrap();
+    let news = PeerNews::NodeHit {
+        pos: Pos::new(3, 3),
+        heading: N,
+        arms: arms(&[S]),
+    };
+    a.handle(1, Event::Peer(RobotId(2), news)).unwrap();
+    assert!(a.map().is_visited(Pos::new(3, 3)));
+    let lie = PeerNews::NodeHit {
+        pos: Pos::new(3, 3),
+        heading: N,
+        arms: arms(&[E]),
+    };
+    a.handle(2, Event::Peer(RobotId(2), lie)).unwrap();
+    assert_eq!(a.map().known_arms(Pos::new(3, 3)), Some(arms(&[S])));
+    // Our own id and ids beyond the team are refused.
+    assert!(a.handle(3, Event::Peer(RobotId(0), news)).is_err());
+    assert!(a.handle(3, Event::Peer(RobotId(200), news)).is_err());
+}

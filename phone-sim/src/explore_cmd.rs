@@ -1,0 +1,352 @@
+//! `conquest explore`: runs the whole system in the simulator and reports.
+//!
+//! With no arguments (and so `cargo run --release`), it explores the
+//! built-in demo field with all its start poses and the project's best
+//! strategy.
+
+use crate::bench::bound::lower_bounds;
+use crate::cli::{CliError, ReadArgs, demo_field, load};
+use crate::field::{Field, ascii};
+use crate::sim::channel::ChannelFaults;
+use crate::sim::robot::BoxedStrategy;
+use crate::sim::{Faults, Outcome, SimConfig, Simulation};
+use crate::world::Truth;
+use core_algo::geometry::Pos;
+use core_algo::team::RobotId;
+use core_algo::timing::Timing;
+use serde::Serialize;
+use std::path::PathBuf;
+
+/// The strategy `explore` uses unless told otherwise.
+pub const BEST_STRATEGY: &str = "tempo";
+
+/// Arguments of `conquest explore`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct ExploreArgs {
+    /// The field (.field, .sim, .map); without it, the built-in demo field.
+    pub field: Option<PathBuf>,
+    /// Team size (default: one robot per start pose of the field).
+    #[arg(long)]
+    pub robots: Option<usize>,
+    /// Exploration strategy (see `conquest bench --help` for the list).
+    #[arg(long, default_value = BEST_STRATEGY)]
+    pub strategy: String,
+    /// Seed of every random stream of the run.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Fault: probability that a link loses a frame.
+    #[arg(long, default_value_t = 0.0)]
+    pub loss: f64,
+    /// Fault: probability that a link duplicates a frame.
+    #[arg(long, default_value_t = 0.0)]
+    pub duplicate: f64,
+    /// Fault: probability that a link flips a bit in a frame.
+    #[arg(long, default_value_t = 0.0)]
+    pub corrupt: f64,
+    /// One-way link latency in ms.
+    #[arg(long, default_value_t = 10)]
+    pub latency_ms: u32,
+    /// Fault: robot ID dies at SECONDS, written ID@SECONDS (repeatable).
+    #[arg(long, value_parser = parse_kill)]
+    pub kill: Vec<(RobotId, u32)>,
+    /// Fault: robot ID stalls from SECONDS for DURATION, written
+    /// ID@SECONDS+DURATION (repeatable).
+    #[arg(long, value_parser = parse_stall)]
+    pub stall: Vec<(RobotId, u32, u32)>,
+    /// Line speed in motor steps per second (e-puck: up to about 1000).
+    #[arg(long, default_value_t = core_algo::timing::DEFAULT_SPEED_STEPS_PER_S)]
+    pub speed: u32,
+    /// Print one JSON object instead of the report.
+    #[arg(long)]
+    pub json: bool,
+    /// Draw the final map to this .svg or .png file.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// How to read the field.
+    #[command(flatten)]
+    pub read: ReadArgs,
+}
+
+impl Default for ExploreArgs {
+    /// The defaults of the command line (explore the demo field).
+    fn default() -> Self {
+        #[derive(clap::Parser)]
+        struct Wrap {
+            #[command(flatten)]
+            args: ExploreArgs,
+        }
+        <Wrap as clap::Parser>::parse_from(["explore"]).args
+    }
+}
+
+fn parse_kill(s: &str) -> Result<(RobotId, u32), String> {
+    let (id, at) = s
+        .split_once('@')
+        .ok_or_else(|| format!("expected ID@SECONDS, found '{s}'"))?;
+    Ok((parse_id(id)?, parse_secs(at)?))
+}
+
+fn parse_stall(s: &str) -> Result<(RobotId, u32, u32), String> {
+    let (id, rest) = s
+        .split_once('@')
+        .ok_or_else(|| format!("expected ID@SECONDS+DURATION, found '{s}'"))?;
+    let (at, dur) = rest
+        .split_once('+')
+        .ok_or_else(|| format!("expected ID@SECONDS+DURATION, found '{s}'"))?;
+    Ok((parse_id(id)?, parse_secs(at)?, parse_secs(dur)?))
+}
+
+fn parse_id(s: &str) -> Result<RobotId, String> {
+    s.trim()
+        .parse::<u8>()
+        .map(RobotId)
+        .map_err(|_| format!("expected a robot id 0..=255, found '{s}'"))
+}
+
+fn parse_secs(s: &str) -> Result<u32, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("expected seconds, found '{s}'"))?;
+    if !(0.0..=4_000_000.0).contains(&v) {
+        return Err(format!("expected seconds in 0..=4000000, found '{s}'"));
+    }
+    Ok((v * 1000.0).round() as u32)
+}
+
+/// Per-robot figures in the report.
+#[derive(Serialize, Debug)]
+pub struct RobotReport {
+    /// Robot id.
+    pub id: u8,
+    /// Survived the run.
+    pub alive: bool,
+    /// Nodes it reported first.
+    pub explored: u32,
+    /// Edges it drove.
+    pub driven: u32,
+    /// explored / driven.
+    pub explored_driven_ratio: f64,
+    /// Arrivals at nodes it had visited before.
+    pub revisits: u32,
+    /// Quarter turns.
+    pub quarter_turns: u32,
+    /// Collisions.
+    pub collisions: u32,
+}
+
+/// The machine-readable result of `conquest explore --json`.
+#[derive(Serialize, Debug)]
+pub struct Report {
+    /// Field name.
+    pub field: String,
+    /// Strategy name.
+    pub strategy: String,
+    /// Team size.
+    pub robots: usize,
+    /// Seed.
+    pub seed: u64,
+    /// Every reachable node's shape known (seed rule), the map right, every
+    /// living robot home.
+    pub complete: bool,
+    /// The phone's map equals the true field.
+    pub map_correct: bool,
+    /// Every living robot home.
+    pub all_home: bool,
+    /// Until the team was done, seconds.
+    pub makespan_s: f64,
+    /// Lower bound with return to the starts (edge time only), seconds.
+    pub lower_bound_s: f64,
+    /// makespan / lower bound.
+    pub ratio: f64,
+    /// Messages the phone received.
+    pub messages: u64,
+    /// Messages the phone relayed.
+    pub relayed: u64,
+    /// Frames put on the links.
+    pub frames_sent: u64,
+    /// Frames the links lost.
+    pub frames_lost: u64,
+    /// Frames sent again.
+    pub retransmissions: u64,
+    /// Conflicting reports.
+    pub conflicts: u64,
+    /// Wall time of the simulation, seconds.
+    pub wall_s: f64,
+    /// Per robot.
+    pub per_robot: Vec<RobotReport>,
+}
+
+/// Runs a simulation of `field` as the arguments say.
+pub fn simulate(field: &Field, a: &ExploreArgs) -> Result<(Simulation, Outcome, f64), CliError> {
+    let robots = a.robots.unwrap_or(field.starts().len());
+    if crate::bench::strategy(&a.strategy).is_none() {
+        return Err(CliError::BadInput(format!(
+            "unknown strategy '{}': expected one of {}",
+            a.strategy,
+            crate::bench::STRATEGIES.join(", ")
+        )));
+    }
+    let config = SimConfig {
+        seed: a.seed,
+        faults: Faults {
+            channel: ChannelFaults {
+                loss: a.loss,
+                duplicate: a.duplicate,
+                corrupt: a.corrupt,
+                latency_ms: a.latency_ms,
+                jitter_ms: a.latency_ms / 2,
+            },
+            kill: a.kill.clone(),
+            stall: a.stall.clone(),
+            cut: Vec::new(),
+        },
+        speed: a.speed.clamp(1, 2000),
+        ..SimConfig::default()
+    };
+    let name = a.strategy.clone();
+    let mut sim = Simulation::new(
+        field,
+        robots,
+        |_| {
+            BoxedStrategy(
+                crate::bench::strategy(&name)
+                    .unwrap_or_else(|| Box::new(core_algo::explore::NearestFrontier)),
+            )
+        },
+        config,
+    )
+    .map_err(|e| CliError::BadInput(e.to_string()))?;
+    let t0 = std::time::Instant::now();
+    let outcome = sim.run();
+    Ok((sim, outcome, t0.elapsed().as_secs_f64()))
+}
+
+/// The report of a finished run.
+pub fn report(
+    field: &Field,
+    a: &ExploreArgs,
+    sim: &Simulation,
+    o: &Outcome,
+    wall_s: f64,
+) -> Report {
+    let k = o.robots.len();
+    let starts: Vec<Pos> = field.starts().iter().take(k).map(|s| s.pos).collect();
+    let truth = Truth::new(field.nodes().iter().map(|(p, a)| (*p, *a)));
+    let bound = lower_bounds(&truth, &starts, k).with_return;
+    let timing = sim.bodies().timing();
+    let lower_bound_s = Timing::seconds(bound * u64::from(timing.edge));
+    let makespan_s = f64::from(o.makespan_ms) / 1000.0;
+    Report {
+        field: field.name().to_string(),
+        strategy: a.strategy.clone(),
+        robots: k,
+        seed: a.seed,
+        complete: o.complete,
+        map_correct: o.map_correct,
+        all_home: o.all_home,
+        makespan_s,
+        lower_bound_s,
+        ratio: makespan_s / lower_bound_s.max(f64::MIN_POSITIVE),
+        messages: o.messages,
+        relayed: o.relayed,
+        frames_sent: o.frames_sent,
+        frames_lost: o.frames_lost,
+        retransmissions: o.retransmissions,
+        conflicts: o.conflicts,
+        wall_s,
+        per_robot: o
+            .robots
+            .iter()
+            .map(|r| RobotReport {
+                id: r.id.0,
+                alive: r.alive,
+                explored: r.explored,
+                driven: r.driven_edges,
+                explored_driven_ratio: f64::from(r.explored) / f64::from(r.driven_edges.max(1)),
+                revisits: r.revisits,
+                quarter_turns: r.quarter_turns,
+                collisions: r.collisions,
+            })
+            .collect(),
+    }
+}
+
+/// `conquest explore`.
+pub fn run(a: &ExploreArgs) -> Result<(), CliError> {
+    let field = match &a.field {
+        Some(p) => load(p, a.read)?,
+        None => demo_field()?,
+    };
+    let (sim, outcome, wall) = simulate(&field, a)?;
+    let r = report(&field, a, &sim, &outcome, wall);
+    if a.json {
+        let text = serde_json::to_string(&r).map_err(|e| CliError::Failed(e.to_string()))?;
+        println!("{text}");
+    } else {
+        print_report(&sim, &r);
+    }
+    if let Some(out) = &a.out {
+        let known: Vec<(Pos, core_algo::geometry::Arms)> = sim
+            .env()
+            .map()
+            .visited()
+            .filter_map(|(p, c)| c.arms().map(|a| (p, a)))
+            .collect();
+        let map_field = Field::new(
+            format!("{} (explored)", field.name()),
+            known.into_iter().collect(),
+            field.starts().iter().take(r.robots).copied().collect(),
+        )
+        .map_err(|e| CliError::Failed(format!("explored map: {e}")))?;
+        crate::render::render(&map_field, out).map_err(CliError::Failed)?;
+    }
+    Ok(())
+}
+
+fn print_report(sim: &Simulation, r: &Report) {
+    let env = sim.env();
+    let nodes: std::collections::BTreeMap<_, _> = env
+        .map()
+        .visited()
+        .filter_map(|(p, c)| c.arms().map(|a| (p, a)))
+        .collect();
+    let marks: Vec<(Pos, char)> = sim
+        .bodies()
+        .bodies()
+        .iter()
+        .map(|b| (b.pos, ascii::arrow(b.heading)))
+        .collect();
+    println!(
+        "explored map of {} ({} robots, strategy {}, seed {}):",
+        r.field, r.robots, r.strategy, r.seed
+    );
+    print!("{}", ascii::nodes(&nodes, &marks));
+    println!();
+    println!(
+        "complete: {} (map correct: {}, all home: {})",
+        r.complete, r.map_correct, r.all_home
+    );
+    println!(
+        "makespan {:.1} s, lower bound {:.1} s, ratio {:.2}; simulated in {:.3} s",
+        r.makespan_s, r.lower_bound_s, r.ratio, r.wall_s
+    );
+    println!(
+        "messages {} received, {} relayed; frames {} sent, {} lost, {} retransmitted; {} conflicts",
+        r.messages, r.relayed, r.frames_sent, r.frames_lost, r.retransmissions, r.conflicts
+    );
+    println!("robot  alive  explored  driven  expl/driven  revisits  turns  collisions");
+    for p in &r.per_robot {
+        println!(
+            "{:>5}  {:>5}  {:>8}  {:>6}  {:>11.2}  {:>8}  {:>5}  {:>10}",
+            p.id,
+            p.alive,
+            p.explored,
+            p.driven,
+            p.explored_driven_ratio,
+            p.revisits,
+            p.quarter_turns,
+            p.collisions
+        );
+    }
+}

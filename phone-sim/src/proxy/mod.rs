@@ -1,0 +1,107 @@
+//! One proxy per robot (seed §3.1): the only way the phone side talks to a
+//! robot. Every kind of robot, simulated, real over a serial port, or a 2010
+//! e-puck, sits behind the one [`RobotProxy`] trait, so the environment,
+//! the handlers and the UI never know which kind they talk to.
+
+pub mod serial;
+pub mod sim;
+
+use core_algo::protocol::Message;
+use core_algo::team::RobotId;
+
+pub use serial::SerialRobot;
+pub use sim::SimRobot;
+
+/// What a proxy heard from its robot.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum ProxyEvent {
+    /// A message from the robot.
+    Message(Message),
+    /// The link came (back) up.
+    LinkUp,
+    /// The link went silent.
+    LinkLost,
+    /// The robot restarted: it forgot everything.
+    Restarted,
+}
+
+/// Counters of one proxy's link.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ProxyStats {
+    /// Frames sent again.
+    pub retransmissions: u32,
+    /// Corrupt frames dropped.
+    pub link_errors: u32,
+    /// Messages waiting for room in the link's window.
+    pub queued: usize,
+}
+
+/// The phone side's handle on one robot.
+pub trait RobotProxy: Send {
+    /// The robot's id.
+    fn id(&self) -> RobotId;
+
+    /// What kind of robot this is ("sim", "serial", "legacy").
+    fn kind(&self) -> &'static str;
+
+    /// Queues a message for reliable delivery.
+    fn send(&mut self, message: Message);
+
+    /// Does the proxy's I/O and timers at `now` (ms) and collects what the
+    /// robot said.
+    fn poll(&mut self, now: u32, events: &mut Vec<ProxyEvent>);
+
+    /// Link counters.
+    fn stats(&self) -> ProxyStats;
+}
+
+/// The link-level part every protocol-speaking proxy shares: a reliable
+/// [`Link`](core_algo::protocol::Link) and an unbounded outbox in front of
+/// its fixed window.
+pub(crate) struct LinkEnd {
+    pub link: core_algo::protocol::Link,
+    outbox: std::collections::VecDeque<Message>,
+}
+
+impl LinkEnd {
+    pub fn new(config: core_algo::protocol::LinkConfig, session: u32) -> Self {
+        LinkEnd {
+            link: core_algo::protocol::Link::new(config, core_algo::protocol::PHONE, session),
+            outbox: std::collections::VecDeque::new(),
+        }
+    }
+
+    pub fn send(&mut self, m: Message) {
+        self.outbox.push_back(m);
+        self.flush();
+    }
+
+    pub fn flush(&mut self) {
+        while let Some(m) = self.outbox.front() {
+            if self.link.send(m.clone()).is_err() {
+                break;
+            }
+            self.outbox.pop_front();
+        }
+    }
+
+    pub fn events(&mut self, events: &mut Vec<ProxyEvent>) {
+        use core_algo::protocol::Event;
+        while let Some(e) = self.link.poll_event() {
+            events.push(match e {
+                Event::Received { message, .. } => ProxyEvent::Message(message),
+                Event::LinkUp => ProxyEvent::LinkUp,
+                Event::LinkLost => ProxyEvent::LinkLost,
+                Event::PeerRestarted => ProxyEvent::Restarted,
+            });
+        }
+    }
+
+    pub fn stats(&self) -> ProxyStats {
+        ProxyStats {
+            retransmissions: self.link.retransmissions(),
+            link_errors: self.link.rx_stats().errors(),
+            queued: self.outbox.len(),
+        }
+    }
+}

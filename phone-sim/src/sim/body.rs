@@ -1,0 +1,439 @@
+//! Robot bodies on the true field: node-level kinematics with the robot's
+//! real timing, and the collisions the firmware would report.
+//!
+//! A body stands on a node, turns on the spot, or drives one edge. Orders
+//! queue and run one after another. Times come from the one [`Timing`] of
+//! core-algo, so the planner's costs are the simulator's costs.
+//!
+//! Collision rules (what the e-puck's proximity layer does: stop, report,
+//! return to the node it left):
+//! - **Head-on on an edge**: two bodies driving the same edge towards each
+//!   other meet in the middle of their overlap; both turn back, and each
+//!   reports a collision when it is back on its node.
+//! - **At a node**: a body arriving at a node another body occupies (standing,
+//!   turning, dead, or arrived earlier) turns back and reports a collision
+//!   on the node it left.
+//! - A dead robot is lifted off the field and blocks nobody.
+//! - **No line**: a move along an arm the node does not have finds no line:
+//!   the body stays and reports an abyss (the field's border).
+
+use core_algo::geometry::{Arms, Heading, Pos, Turn};
+use core_algo::team::RobotId;
+use core_algo::timing::{TICK_MS, Timing};
+use std::collections::{BTreeMap, VecDeque};
+
+/// An order to a body.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Order {
+    /// Turn on the spot.
+    Turn(Turn),
+    /// Drive to the next node.
+    Move,
+    /// Turn once around on the spot and classify the node (the initial
+    /// scan of the start node).
+    Scan,
+}
+
+/// What a body's sensors report when an action ends.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Report {
+    /// Arrived on a node with these arms relative to the body's heading.
+    NodeHit {
+        /// Bit 0 ahead, 1 right, 2 behind, 3 left.
+        relative: Arms,
+    },
+    /// Met another body; back on the node it left, facing back.
+    Collision,
+    /// No line ahead; stayed.
+    Abyss,
+    /// Standing on a node, its proximity sensors saw another robot come
+    /// close from `toward` and turn back (the passive side of a collision).
+    Bumped {
+        /// Where the other robot came from, global frame.
+        toward: Heading,
+    },
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+enum Action {
+    Idle,
+    Turning {
+        until: u32,
+    },
+    Scanning {
+        until: u32,
+    },
+    Driving {
+        from: Pos,
+        to: Pos,
+        depart: u32,
+        arrive: u32,
+    },
+    Returning {
+        to: Pos,
+        arrive: u32,
+    },
+}
+
+/// Counters of one body.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
+pub struct BodyStats {
+    /// Edges driven to the end.
+    pub edges: u32,
+    /// Quarter turns made.
+    pub quarter_turns: u32,
+    /// Collisions reported.
+    pub collisions: u32,
+    /// Arrivals at a node this body had already visited.
+    pub revisits: u32,
+    /// Moves ordered along an arm the node does not have.
+    pub abysses: u32,
+}
+
+/// One robot's body.
+#[derive(Clone, Debug)]
+pub struct Body {
+    /// Node it stands on (or last stood on while driving).
+    pub pos: Pos,
+    /// The way it faces.
+    pub heading: Heading,
+    action: Action,
+    queue: VecDeque<Order>,
+    alive: bool,
+    stalled_until: u32,
+    /// Counters.
+    pub stats: BodyStats,
+    visited: std::collections::HashSet<Pos>,
+}
+
+impl Body {
+    /// Whether it is idle on a node with nothing queued.
+    pub fn is_idle(&self) -> bool {
+        self.action == Action::Idle && self.queue.is_empty()
+    }
+
+    /// Whether it still works.
+    pub fn is_alive(&self) -> bool {
+        self.alive
+    }
+
+    /// Where it is in between nodes, as (from, to, fraction 0..=1) at `now`.
+    pub fn between(&self, now: u32) -> Option<(Pos, Pos, f64)> {
+        match self.action {
+            Action::Driving {
+                from,
+                to,
+                depart,
+                arrive,
+            } => {
+                let f = f64::from(now.saturating_sub(depart))
+                    / f64::from(arrive.saturating_sub(depart).max(1));
+                Some((from, to, f.clamp(0.0, 1.0)))
+            }
+            _ => None,
+        }
+    }
+
+    /// The node the body blocks for others: where it stands, or the nearer
+    /// end of its edge.
+    fn occupied(&self) -> Option<Pos> {
+        match self.action {
+            _ if !self.alive => None,
+            Action::Idle | Action::Turning { .. } | Action::Scanning { .. } => Some(self.pos),
+            _ => None,
+        }
+    }
+}
+
+/// The heading from `a` to its lattice neighbour `b`.
+fn from_heading(a: Pos, b: Pos) -> Option<Heading> {
+    Heading::ALL.into_iter().find(|h| a.step(*h) == Some(b))
+}
+
+/// All bodies on the true field.
+#[derive(Clone, Debug)]
+pub struct Bodies {
+    truth: BTreeMap<Pos, Arms>,
+    timing: Timing,
+    bodies: Vec<Body>,
+}
+
+impl Bodies {
+    /// Bodies at `starts` on the field `truth`, moving with `timing`.
+    pub fn new(truth: BTreeMap<Pos, Arms>, timing: Timing, starts: &[(Pos, Heading)]) -> Self {
+        let bodies = starts
+            .iter()
+            .map(|&(pos, heading)| Body {
+                pos,
+                heading,
+                action: Action::Idle,
+                queue: VecDeque::new(),
+                alive: true,
+                stalled_until: 0,
+                stats: BodyStats::default(),
+                visited: [pos].into_iter().collect(),
+            })
+            .collect();
+        Bodies {
+            truth,
+            timing,
+            bodies,
+        }
+    }
+
+    /// The bodies, indexed by robot id.
+    pub fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    /// The timing in use.
+    pub fn timing(&self) -> Timing {
+        self.timing
+    }
+
+    /// Changes the timing (a new speed) for actions that start from now on.
+    pub fn set_timing(&mut self, timing: Timing) {
+        self.timing = timing;
+    }
+
+    /// The true arms of `p`.
+    pub fn truth(&self, p: Pos) -> Option<Arms> {
+        self.truth.get(&p).copied()
+    }
+
+    /// The body stops working. A person lifts a dead robot off the field,
+    /// so it no longer blocks anyone.
+    pub fn kill(&mut self, id: RobotId) {
+        if let Some(b) = self.bodies.get_mut(id.index()) {
+            b.alive = false;
+            b.queue.clear();
+        }
+    }
+
+    /// The body starts nothing new before `until`.
+    pub fn stall(&mut self, id: RobotId, until: u32) {
+        if let Some(b) = self.bodies.get_mut(id.index()) {
+            b.stalled_until = b.stalled_until.max(until);
+        }
+    }
+
+    /// Queues an order; it starts at once if the body is idle.
+    pub fn order(
+        &mut self,
+        id: RobotId,
+        order: Order,
+        now: u32,
+        reports: &mut Vec<(RobotId, Report)>,
+    ) {
+        let Some(b) = self.bodies.get_mut(id.index()) else {
+            return;
+        };
+        if !b.alive {
+            return;
+        }
+        b.queue.push_back(order);
+        self.start_next(id.index(), now, reports);
+    }
+
+    /// The time of the next action to end, if any.
+    pub fn next_event(&self) -> Option<u32> {
+        self.bodies
+            .iter()
+            .filter(|b| b.alive)
+            .filter_map(|b| match b.action {
+                Action::Idle if !b.queue.is_empty() => Some(b.stalled_until),
+                Action::Idle => None,
+                Action::Turning { until } | Action::Scanning { until } => Some(until),
+                Action::Driving { arrive, .. } | Action::Returning { arrive, .. } => Some(arrive),
+            })
+            .min()
+    }
+
+    /// Ends every action due by `now`, in (time, robot id) order, and
+    /// collects the sensors' reports.
+    pub fn advance(&mut self, now: u32, reports: &mut Vec<(RobotId, Report)>) {
+        loop {
+            let due = self
+                .bodies
+                .iter()
+                .enumerate()
+                .filter(|(_, b)| b.alive)
+                .filter_map(|(i, b)| {
+                    let t = match b.action {
+                        Action::Idle if !b.queue.is_empty() => b.stalled_until,
+                        Action::Idle => return None,
+                        Action::Turning { until } | Action::Scanning { until } => until,
+                        Action::Driving { arrive, .. } | Action::Returning { arrive, .. } => arrive,
+                    };
+                    (t <= now).then_some((t, i))
+                })
+                .min();
+            let Some((t, i)) = due else { break };
+            self.finish(i, t, reports);
+        }
+    }
+
+    fn finish(&mut self, i: usize, t: u32, reports: &mut Vec<(RobotId, Report)>) {
+        let id = RobotId(i as u8);
+        let Some(action) = self.bodies.get(i).map(|b| b.action) else {
+            return;
+        };
+        match action {
+            Action::Idle => {}
+            Action::Turning { .. } => {
+                if let Some(b) = self.bodies.get_mut(i) {
+                    b.action = Action::Idle;
+                }
+            }
+            Action::Scanning { .. } => {
+                if let Some(b) = self.bodies.get_mut(i) {
+                    b.action = Action::Idle;
+                    let arms = self.truth.get(&b.pos).copied().unwrap_or_default();
+                    reports.push((
+                        id,
+                        Report::NodeHit {
+                            relative: arms.to_relative(b.heading),
+                        },
+                    ));
+                }
+            }
+            Action::Driving { from, to, .. } => {
+                let blocker = self
+                    .bodies
+                    .iter()
+                    .enumerate()
+                    .find(|(j, o)| *j != i && o.occupied() == Some(to))
+                    .map(|(j, o)| (j, o.alive && o.is_idle()));
+                let blocked = blocker.is_some();
+                if let (Some((j, true)), Some(toward)) = (blocker, from_heading(to, from)) {
+                    reports.push((RobotId(j as u8), Report::Bumped { toward }));
+                }
+                let edge = self.edge_ms();
+                if let Some(b) = self.bodies.get_mut(i) {
+                    if blocked {
+                        b.heading = b.heading.opposite();
+                        b.action = Action::Returning {
+                            to: from,
+                            arrive: t + edge,
+                        };
+                    } else {
+                        b.pos = to;
+                        b.action = Action::Idle;
+                        b.stats.edges += 1;
+                        if !b.visited.insert(to) {
+                            b.stats.revisits += 1;
+                        }
+                        let arms = self.truth.get(&to).copied().unwrap_or_default();
+                        reports.push((
+                            id,
+                            Report::NodeHit {
+                                relative: arms.to_relative(b.heading),
+                            },
+                        ));
+                    }
+                }
+            }
+            Action::Returning { to, .. } => {
+                if let Some(b) = self.bodies.get_mut(i) {
+                    b.pos = to;
+                    b.action = Action::Idle;
+                    b.stats.collisions += 1;
+                    b.queue.clear();
+                    reports.push((id, Report::Collision));
+                }
+            }
+        }
+        self.start_next(i, t, reports);
+    }
+
+    fn edge_ms(&self) -> u32 {
+        self.timing.edge * TICK_MS
+    }
+
+    fn start_next(&mut self, i: usize, now: u32, reports: &mut Vec<(RobotId, Report)>) {
+        let edge = self.edge_ms();
+        let quarter = self.timing.quarter_turn * TICK_MS;
+        let Some(b) = self.bodies.get(i) else { return };
+        if b.action != Action::Idle || !b.alive || b.stalled_until > now {
+            return;
+        }
+        let (pos, heading) = (b.pos, b.heading);
+        let Some(order) = self.bodies.get_mut(i).and_then(|b| b.queue.pop_front()) else {
+            return;
+        };
+        match order {
+            Order::Turn(t) => {
+                if let Some(b) = self.bodies.get_mut(i) {
+                    b.heading = heading.turned(t);
+                    let q = if t == Turn::UTurn { 2 } else { 1 };
+                    b.stats.quarter_turns += q;
+                    b.action = Action::Turning {
+                        until: now + quarter * q,
+                    };
+                }
+            }
+            Order::Scan => {
+                if let Some(b) = self.bodies.get_mut(i) {
+                    b.stats.quarter_turns += 4;
+                    b.action = Action::Scanning {
+                        until: now + quarter * 4,
+                    };
+                }
+            }
+            Order::Move => {
+                let arms = self.truth.get(&pos).copied().unwrap_or_default();
+                let Some(to) = pos.step(heading).filter(|_| arms.has(heading)) else {
+                    if let Some(b) = self.bodies.get_mut(i) {
+                        b.queue.clear();
+                        b.stats.abysses += 1;
+                    }
+                    reports.push((RobotId(i as u8), Report::Abyss));
+                    return;
+                };
+                // Head-on: someone drives this edge the other way.
+                let oncoming = self
+                    .bodies
+                    .iter()
+                    .enumerate()
+                    .find_map(|(j, o)| match o.action {
+                        Action::Driving {
+                            from,
+                            to: oto,
+                            depart,
+                            arrive,
+                        } if j != i && from == to && oto == pos && arrive > now => {
+                            Some((j, depart))
+                        }
+                        _ => None,
+                    });
+                if let Some((j, their_depart)) = oncoming {
+                    // Positions along the edge meet at t = (E + d_me + d_them) / 2.
+                    let meet = (edge + now + their_depart) / 2;
+                    if let Some(o) = self.bodies.get_mut(j) {
+                        o.heading = o.heading.opposite();
+                        o.action = Action::Returning {
+                            to,
+                            arrive: meet + (meet - their_depart),
+                        };
+                    }
+                    if let Some(b) = self.bodies.get_mut(i) {
+                        b.heading = heading.opposite();
+                        b.action = Action::Returning {
+                            to: pos,
+                            arrive: meet + (meet - now),
+                        };
+                    }
+                    return;
+                }
+                if let Some(b) = self.bodies.get_mut(i) {
+                    b.action = Action::Driving {
+                        from: pos,
+                        to,
+                        depart: now,
+                        arrive: now + edge,
+                    };
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,601 @@
+//! The node-level discrete-event simulator of the whole system.
+//!
+//! Every robot is a [`SimFirmware`] (the core-algo agent behind the real
+//! reliable link) in a [`Body`](body::Body) on the true field; every robot
+//! has a [`SimRobot`] proxy on the phone side, joined to it by two lossy
+//! [`Channel`](channel::Channel)s that carry the real encoded frames. The
+//! phone side is the same as with real robots: proxies, the handler
+//! [`Chain`], the relay and the [`Environment`].
+//!
+//! Time advances from event to event (a body finishing an action, bytes
+//! arriving, a fault) and at least every [`SimConfig::tick_ms`] for the
+//! links' and agents' timers. Everything is seeded: the same configuration
+//! gives the same run.
+
+pub mod body;
+pub mod channel;
+pub mod robot;
+
+use crate::environment::Environment;
+use crate::field::Field;
+use crate::handlers::{Chain, Inbound, Recipients, Relay};
+use crate::proxy::{ProxyEvent, RobotProxy, SimRobot};
+use body::{Bodies, Order};
+use channel::{ChannelFaults, ChannelStats};
+use core_algo::agent::AgentConfig;
+use core_algo::geometry::Pos;
+use core_algo::map::Bounds;
+use core_algo::protocol::message::{Broadcast, FailureKind, StrategyKind, StrategySettings};
+use core_algo::protocol::{LinkConfig, MAX_FRAME_LEN, Message, Pose};
+use core_algo::team::RobotId;
+use core_algo::timing::Timing;
+use robot::{BoxedStrategy, SimFirmware, host_agent};
+
+/// Faults to inject into a run.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Faults {
+    /// Link faults, the same for every robot.
+    pub channel: ChannelFaults,
+    /// Robots that die at a time (ms).
+    pub kill: Vec<(RobotId, u32)>,
+    /// Robots that stall: (robot, from ms, for ms).
+    pub stall: Vec<(RobotId, u32, u32)>,
+    /// Robots whose link is cut: (robot, from ms, for ms).
+    pub cut: Vec<(RobotId, u32, u32)>,
+}
+
+/// How to run a simulation.
+#[derive(Clone, Debug)]
+pub struct SimConfig {
+    /// Seed of every random stream.
+    pub seed: u64,
+    /// Faults to inject.
+    pub faults: Faults,
+    /// Link timers.
+    pub link: LinkConfig,
+    /// Agent tunables (its timing is replaced by the field's).
+    pub agent: AgentConfig,
+    /// Timer granularity, ms.
+    pub tick_ms: u32,
+    /// Give up after this much simulated time, ms.
+    pub max_time_ms: u32,
+    /// Line speed, motor steps per second.
+    pub speed: u32,
+}
+
+impl Default for SimConfig {
+    fn default() -> Self {
+        SimConfig {
+            seed: 1,
+            faults: Faults::default(),
+            link: LinkConfig::default(),
+            agent: AgentConfig::default(),
+            tick_ms: 50,
+            max_time_ms: 3_600_000,
+            speed: core_algo::timing::DEFAULT_SPEED_STEPS_PER_S,
+        }
+    }
+}
+
+/// Why a simulation cannot start.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum SimError {
+    /// More robots than start poses.
+    TooManyRobots {
+        /// Asked for.
+        robots: usize,
+        /// Starts in the field.
+        starts: usize,
+    },
+    /// No robot at all.
+    NoRobots,
+}
+
+impl std::fmt::Display for SimError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SimError::TooManyRobots { robots, starts } => {
+                write!(
+                    f,
+                    "asked for {robots} robots, but the field has {starts} start poses"
+                )
+            }
+            SimError::NoRobots => write!(f, "expected at least one robot"),
+        }
+    }
+}
+
+impl std::error::Error for SimError {}
+
+/// The whole simulated system; see the module docs.
+pub struct Simulation {
+    now: u32,
+    next_tick: u32,
+    config: SimConfig,
+    field: Field,
+    bodies: Bodies,
+    firmware: Vec<SimFirmware>,
+    proxies: Vec<SimRobot>,
+    env: Environment,
+    chain: Chain,
+    started: Vec<bool>,
+    paused: bool,
+    done_at: Option<u32>,
+}
+
+/// The map window every participant uses: the field's bounding box with a
+/// margin of one node, so that border nodes have neighbours in the window.
+pub fn window(field: &Field) -> Bounds {
+    let b = field.bounds();
+    Bounds::new(
+        Pos::new(b.origin.x.saturating_sub(1), b.origin.y.saturating_sub(1)),
+        b.width.saturating_add(2),
+        b.height.saturating_add(2),
+    )
+}
+
+impl Simulation {
+    /// A simulation of `robots` robots (the field's first start poses), each
+    /// deciding with the strategy `strategy(id)` makes.
+    pub fn new(
+        field: &Field,
+        robots: usize,
+        mut strategy: impl FnMut(RobotId) -> BoxedStrategy,
+        config: SimConfig,
+    ) -> Result<Simulation, SimError> {
+        if robots == 0 {
+            return Err(SimError::NoRobots);
+        }
+        if robots > field.starts().len() {
+            return Err(SimError::TooManyRobots {
+                robots,
+                starts: field.starts().len(),
+            });
+        }
+        let timing = Timing::from_hardware(u32::from(field.spacing_mm()), config.speed);
+        let starts: Vec<_> = field
+            .starts()
+            .iter()
+            .take(robots)
+            .map(|s| (s.pos, s.heading))
+            .collect();
+        let bounds = window(field);
+        let agent_config = AgentConfig {
+            timing,
+            ..config.agent
+        };
+        let firmware = (0..robots)
+            .map(|i| {
+                let id = RobotId(i as u8);
+                SimFirmware::new(
+                    id,
+                    host_agent(id, bounds, strategy(id), agent_config),
+                    config.link,
+                    1,
+                )
+            })
+            .collect();
+        let proxies = (0..robots)
+            .map(|i| {
+                SimRobot::new(
+                    RobotId(i as u8),
+                    config.link,
+                    config.faults.channel,
+                    config.seed.wrapping_add(i as u64 * 7919),
+                )
+            })
+            .collect();
+        Ok(Simulation {
+            now: 0,
+            next_tick: 0,
+            bodies: Bodies::new(field.nodes().clone(), timing, &starts),
+            firmware,
+            proxies,
+            env: Environment::new(bounds, robots),
+            chain: Chain::standard(),
+            started: vec![false; robots],
+            paused: false,
+            done_at: None,
+            field: field.clone(),
+            config,
+        })
+    }
+
+    /// Simulated time, ms.
+    pub fn now(&self) -> u32 {
+        self.now
+    }
+
+    /// The phone side's model.
+    pub fn env(&self) -> &Environment {
+        &self.env
+    }
+
+    /// The phone side's model, to subscribe views.
+    pub fn env_mut(&mut self) -> &mut Environment {
+        &mut self.env
+    }
+
+    /// The bodies.
+    pub fn bodies(&self) -> &Bodies {
+        &self.bodies
+    }
+
+    /// The robots' firmware.
+    pub fn firmware(&self) -> &[SimFirmware] {
+        &self.firmware
+    }
+
+    /// The proxies.
+    pub fn proxies(&self) -> &[SimRobot] {
+        &self.proxies
+    }
+
+    /// The true field.
+    pub fn field(&self) -> &Field {
+        &self.field
+    }
+
+    /// Pauses or resumes the clock.
+    pub fn set_paused(&mut self, paused: bool) {
+        self.paused = paused;
+    }
+
+    /// Sends `message` to robot `id` through its proxy (manual control).
+    pub fn send(&mut self, id: RobotId, message: Message) -> bool {
+        let Some(p) = self.proxies.get_mut(id.index()) else {
+            return false;
+        };
+        p.send(message);
+        true
+    }
+
+    /// Whether the run is over: the team finished, everyone died, or time
+    /// ran out.
+    pub fn is_over(&self) -> bool {
+        self.done_at.is_some() || self.now >= self.config.max_time_ms
+    }
+
+    /// Every robot is dead or has said the team is done and stands still.
+    fn team_done(&self) -> bool {
+        self.firmware
+            .iter()
+            .zip(self.bodies.bodies())
+            .all(|(f, b)| f.is_dead() || (f.finished() && b.is_idle()))
+    }
+
+    /// Advances to the next event; returns `false` once the run is over.
+    pub fn step(&mut self) -> bool {
+        if self.is_over() {
+            return false;
+        }
+        if self.paused {
+            return true;
+        }
+        let next = [
+            Some(self.next_tick),
+            self.bodies.next_event(),
+            self.proxies
+                .iter()
+                .filter_map(|p| p.up.next_arrival())
+                .min(),
+            self.proxies
+                .iter()
+                .filter_map(|p| p.down.next_arrival())
+                .min(),
+        ]
+        .into_iter()
+        .flatten()
+        .min()
+        .unwrap_or(self.next_tick)
+        .max(self.now);
+        self.now = next;
+        self.env.set_now(self.now);
+        self.apply_faults();
+        let now = self.now;
+        let mut reports = Vec::new();
+        self.bodies.advance(now, &mut reports);
+        let mut orders = Vec::new();
+        for (id, r) in reports {
+            if let Some(f) = self.firmware.get_mut(id.index()) {
+                f.on_report(now, r, &mut orders);
+                self.order(id, &mut orders);
+            }
+        }
+        let tick = now >= self.next_tick;
+        if tick {
+            self.next_tick = now + self.config.tick_ms.max(1);
+        }
+        for i in 0..self.firmware.len() {
+            let id = RobotId(i as u8);
+            while let Some(bytes) = self.proxies.get_mut(i).and_then(|p| p.down.receive(now)) {
+                if let Some(f) = self.firmware.get_mut(i) {
+                    f.on_bytes(now, &bytes, &mut orders);
+                }
+                self.order(id, &mut orders);
+            }
+            if tick && let Some(f) = self.firmware.get_mut(i) {
+                f.tick(now, &mut orders);
+                self.order(id, &mut orders);
+            }
+            let mut buf = [0u8; MAX_FRAME_LEN];
+            if let (Some(f), Some(p)) = (self.firmware.get_mut(i), self.proxies.get_mut(i)) {
+                while let Some(n) = f.poll_transmit(now, &mut buf) {
+                    p.up.send(now, buf.get(..n).unwrap_or(&[]));
+                }
+            }
+        }
+        self.phone_side(now);
+        self.env.check_finished();
+        if self.done_at.is_none() && self.team_done() {
+            self.done_at = Some(now);
+        }
+        true
+    }
+
+    /// Runs to the end.
+    pub fn run(&mut self) -> Outcome {
+        while self.step() {}
+        self.outcome()
+    }
+
+    fn order(&mut self, id: RobotId, orders: &mut Vec<Order>) {
+        let mut reports = Vec::new();
+        for o in orders.drain(..) {
+            self.bodies.order(id, o, self.now, &mut reports);
+        }
+        // An order can end at once (no line ahead).
+        let mut more = Vec::new();
+        for (rid, r) in reports {
+            if let Some(f) = self.firmware.get_mut(rid.index()) {
+                f.on_report(self.now, r, &mut more);
+            }
+            for o in more.drain(..) {
+                let mut ignored = Vec::new();
+                self.bodies.order(rid, o, self.now, &mut ignored);
+            }
+        }
+    }
+
+    fn phone_side(&mut self, now: u32) {
+        let mut events = Vec::new();
+        let mut relay = Relay::default();
+        for i in 0..self.proxies.len() {
+            let id = RobotId(i as u8);
+            events.clear();
+            if let Some(p) = self.proxies.get_mut(i) {
+                p.poll(now, &mut events);
+            }
+            for e in events.drain(..) {
+                match e {
+                    ProxyEvent::Message(m) => {
+                        if matches!(m, Message::Hello { .. })
+                            && !self.started.get(i).copied().unwrap_or(true)
+                        {
+                            self.start_robot(id);
+                        }
+                        self.chain.dispatch(
+                            &mut self.env,
+                            &Inbound {
+                                from: id,
+                                message: &m,
+                            },
+                            &mut relay,
+                        );
+                    }
+                    ProxyEvent::LinkUp => {
+                        self.env.update_robot(id, |r| {
+                            r.link_up = true;
+                            r.failed = false;
+                        });
+                    }
+                    ProxyEvent::LinkLost => {
+                        self.env.stats_mut().link_losses += 1;
+                        // Failed until it is heard again; the team plans
+                        // around it meanwhile.
+                        self.env.update_robot(id, |r| {
+                            r.link_up = false;
+                            r.failed = true;
+                        });
+                        relay.out.push((
+                            Recipients::AllBut(id),
+                            Message::Relayed {
+                                origin: id,
+                                broadcast: Broadcast::Failure {
+                                    kind: FailureKind::LinkLost,
+                                },
+                            },
+                        ));
+                    }
+                    ProxyEvent::Restarted => {
+                        self.env.log_line(format!("robot {id} restarted"));
+                    }
+                }
+            }
+        }
+        let n = self.proxies.len();
+        self.env.stats_mut().relayed += relay.out.len() as u64;
+        for (to, m) in relay.out.drain(..) {
+            match to {
+                Recipients::To(id) => {
+                    if let Some(p) = self.proxies.get_mut(id.index()) {
+                        p.send(m);
+                    }
+                }
+                Recipients::AllBut(origin) => {
+                    for j in (0..n).filter(|j| *j != origin.index()) {
+                        if let Some(p) = self.proxies.get_mut(j) {
+                            p.send(m.clone());
+                        }
+                    }
+                }
+            }
+        }
+        let (mut retx, mut errors) = (0u64, 0u64);
+        for p in &self.proxies {
+            let s = p.stats();
+            retx += u64::from(s.retransmissions);
+            errors += u64::from(s.link_errors);
+        }
+        let stats = self.env.stats_mut();
+        stats.retransmissions = retx;
+        stats.link_errors = errors;
+    }
+
+    fn start_robot(&mut self, id: RobotId) {
+        let Some(s) = self.field.starts().get(id.index()).copied() else {
+            return;
+        };
+        if let Some(flag) = self.started.get_mut(id.index()) {
+            *flag = true;
+        }
+        let settings = StrategySettings {
+            kind: StrategyKind::Coordinated,
+            team_size: self.firmware.len() as u8,
+            speed: self.config.speed as u16,
+        };
+        self.env.update_robot(id, |r| r.home = Some(s.pos));
+        if let Some(p) = self.proxies.get_mut(id.index()) {
+            p.send(Message::Start {
+                pose: Pose {
+                    pos: s.pos,
+                    heading: s.heading,
+                },
+                settings,
+            });
+        }
+    }
+
+    fn apply_faults(&mut self) {
+        let now = self.now;
+        for &(id, at) in &self.config.faults.kill {
+            if now >= at && self.firmware.get(id.index()).is_some_and(|f| !f.is_dead()) {
+                if let Some(f) = self.firmware.get_mut(id.index()) {
+                    f.kill();
+                }
+                self.bodies.kill(id);
+                self.env
+                    .log_line(format!("fault: robot {id} dies at {now} ms"));
+            }
+        }
+        for &(id, at, dur) in &self.config.faults.stall {
+            if now >= at && now < at + dur {
+                self.bodies.stall(id, at + dur);
+            }
+        }
+        for &(id, at, dur) in &self.config.faults.cut {
+            let cut = now >= at && now < at + dur;
+            if let Some(p) = self.proxies.get_mut(id.index()) {
+                p.up.set_cut(cut);
+                p.down.set_cut(cut);
+            }
+        }
+    }
+
+    /// The run's result so far.
+    pub fn outcome(&self) -> Outcome {
+        let map = self.env.map();
+        let map_correct = self
+            .field
+            .nodes()
+            .iter()
+            .all(|(p, a)| map.known_arms(*p) == Some(*a));
+        let alive: Vec<bool> = self.firmware.iter().map(|f| !f.is_dead()).collect();
+        let all_home = self
+            .bodies
+            .bodies()
+            .iter()
+            .zip(self.field.starts())
+            .zip(&alive)
+            .all(|((b, s), alive)| !alive || (b.pos == s.pos && b.is_idle()));
+        let robots = self
+            .bodies
+            .bodies()
+            .iter()
+            .zip(self.env.robots())
+            .zip(&alive)
+            .map(|((b, r), alive)| RobotOutcome {
+                id: r.id,
+                alive: *alive,
+                explored: r.explored,
+                driven_edges: b.stats.edges,
+                quarter_turns: b.stats.quarter_turns,
+                revisits: b.stats.revisits,
+                collisions: b.stats.collisions,
+            })
+            .collect();
+        let (mut down, mut up) = (ChannelStats::default(), ChannelStats::default());
+        for p in &self.proxies {
+            let (d, u) = p.channel_stats();
+            down.sent += d.sent;
+            down.lost += d.lost;
+            up.sent += u.sent;
+            up.lost += u.lost;
+        }
+        let stats = self.env.stats();
+        Outcome {
+            complete: map_correct && all_home && map.is_complete(),
+            map_correct,
+            all_home,
+            makespan_ms: self.done_at.unwrap_or(self.now),
+            robots,
+            frames_sent: down.sent + up.sent,
+            frames_lost: down.lost + up.lost,
+            retransmissions: stats.retransmissions,
+            messages: stats.received,
+            relayed: stats.relayed,
+            conflicts: stats.conflicts,
+            unhandled: stats.unhandled,
+        }
+    }
+}
+
+/// Per-robot figures of a run.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct RobotOutcome {
+    /// The robot.
+    pub id: RobotId,
+    /// Whether it survived.
+    pub alive: bool,
+    /// Nodes it reported first.
+    pub explored: u32,
+    /// Edges it drove.
+    pub driven_edges: u32,
+    /// Quarter turns it made.
+    pub quarter_turns: u32,
+    /// Arrivals at nodes it had visited before.
+    pub revisits: u32,
+    /// Collisions it had.
+    pub collisions: u32,
+}
+
+/// The result of a run.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Outcome {
+    /// Every node's shape known correctly, no frontier left, every living
+    /// robot home.
+    pub complete: bool,
+    /// The phone's merged map equals the true field.
+    pub map_correct: bool,
+    /// Every living robot stands on its start node.
+    pub all_home: bool,
+    /// Until every living robot said the team is done and stood still (or
+    /// the run stopped), ms.
+    pub makespan_ms: u32,
+    /// Per robot.
+    pub robots: Vec<RobotOutcome>,
+    /// Frames offered to the channels.
+    pub frames_sent: u64,
+    /// Frames the channels lost.
+    pub frames_lost: u64,
+    /// Frames the links sent again.
+    pub retransmissions: u64,
+    /// Messages the phone received.
+    pub messages: u64,
+    /// Messages the phone relayed.
+    pub relayed: u64,
+    /// Conflicting reports.
+    pub conflicts: u64,
+    /// Messages no handler took.
+    pub unhandled: u64,
+}
