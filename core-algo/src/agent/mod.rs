@@ -749,9 +749,11 @@ where
                     self.mode = Mode::Return;
                 }
             }
+            // Standing aside while others explore: keep the mode.
+            Goal::Wait => {}
         }
         let Some(h) = decision.next else {
-            if self.pos != self.home && self.mode == Mode::Return {
+            if self.pos != self.home && (self.mode == Mode::Return || decision.goal == Goal::Wait) {
                 // Held back (or home unreachable for now): look again soon.
                 let edge_ms = self.config.timing.edge.saturating_mul(TICK_MS);
                 self.motion = Motion::Waiting {

@@ -79,6 +79,9 @@ pub enum Goal {
     Home,
     /// At home with nothing reachable to explore: stay.
     Done,
+    /// Nothing to do for now while others explore: stay, and decide again
+    /// when the map grows.
+    Wait,
 }
 
 /// A strategy's answer: the goal and the first move towards it.

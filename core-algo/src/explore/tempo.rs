@@ -5,8 +5,10 @@
 //! at every decision (min-sum Hungarian on the true turn-aware travel
 //! times, so committed robots switch when a better split appears), on
 //! partial fields grown only as far as the candidates need, and a robot left
-//! without a share drives home at once instead of trailing another robot
-//! (it is woken again whenever the map grows).
+//! without a share *waits where it stands* instead of trailing another robot
+//! to the same frontier: it decides again whenever the map grows, and goes
+//! home once nothing is left. (Driving home at once was measured too: it
+//! loses on mazes, where idle robots are soon needed again.)
 //!
 //! Knobs tried and measured (docs/results/exploration.md), off by default
 //! because they did not pay on the benchmark fields:
@@ -32,6 +34,13 @@ pub struct TempoConfig {
     pub endgame_return: bool,
     /// A robot without a share goes home.
     pub idle_home: bool,
+    /// A robot without a share waits where it is (it decides again when the
+    /// map grows); takes precedence over `idle_home`.
+    pub idle_stay: bool,
+    /// With `idle_stay`: a robot without a share still trails to its
+    /// nearest frontier node when that is at most this many edges of time
+    /// away (0: never).
+    pub trail_edges: u32,
     /// Candidates closer than this Manhattan distance to a candidate taken
     /// already are skipped, so that robots split into regions.
     pub spread: u32,
@@ -46,6 +55,8 @@ impl Default for TempoConfig {
             deduce_penalty_edges: 0,
             endgame_return: false,
             idle_home: true,
+            idle_stay: true,
+            trail_edges: 0,
             spread: 0,
             squared: false,
         }
@@ -152,6 +163,20 @@ where
         };
         match mine {
             Some(i) => Ok(explore_decision(ctx, f, i)),
+            None if self.config.idle_stay => {
+                let limit = self.config.trail_edges.saturating_mul(ctx.timing.edge);
+                if limit > 0 {
+                    if let Some((i, d)) = super::cheapest_frontier(ctx, f, |_, _, _| Some(0))? {
+                        if d <= limit {
+                            return Ok(explore_decision(ctx, f, i));
+                        }
+                    }
+                }
+                Ok(Decision {
+                    goal: super::Goal::Wait,
+                    next: None,
+                })
+            }
             None if self.config.idle_home => go_home(ctx, f),
             None => nearest_or_home(ctx, f),
         }

@@ -205,3 +205,8 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn planner_state_is_sixteen_bytes_per_node() {
+    assert_eq!(core::mem::size_of::<PlanCell>(), 16);
+}

@@ -53,21 +53,27 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
         "minpos" => Box::new(MinPos),
         "tempo" => Box::new(Tempo::default()),
         other => {
-            // `tempo:<deduce edges>:<endgame 0|1>:<idle home 0|1>:<spread>:<squared 0|1>` for
+            // `tempo:<deduce edges>:<endgame 0|1>:<idle: 0 trail, 1 home, 2 stay>:<spread>:<squared 0|1>[:<trail edges>]` for
             // ablations.
             let rest = other.strip_prefix("tempo:")?;
             let v: Vec<u32> = rest
                 .split(':')
                 .map(|x| x.parse().ok())
                 .collect::<Option<_>>()?;
-            let [d, e, i, s, q] = v[..] else { return None };
+            let (d, e, i, s, q, t) = match v[..] {
+                [d, e, i, s, q] => (d, e, i, s, q, 0),
+                [d, e, i, s, q, t] => (d, e, i, s, q, t),
+                _ => return None,
+            };
             Box::new(Tempo {
                 config: TempoConfig {
                     deduce_penalty_edges: d,
                     endgame_return: e != 0,
                     idle_home: i != 0,
+                    idle_stay: i == 2,
                     spread: s,
                     squared: q != 0,
+                    trail_edges: t,
                 },
             })
         }

@@ -15,7 +15,8 @@
 //! - Robots do not collide (several may share a node or an edge).
 //! - Events are processed in time order, ties by robot id: deterministic.
 //! - A robot with nothing to do waits, and decides again whenever the map
-//!   grows; the run ends when every robot waits.
+//!   grows, or when every robot waits and somebody has moved since the
+//!   last such moment; the run ends when every robot waits after that.
 
 use core_algo::explore::{Context, Decision, RobotView, Strategy};
 use core_algo::geometry::{Arms, Heading, Pos};
@@ -269,14 +270,29 @@ pub fn run<S: Strategy<Vec<Block>, Vec<PlanCell>> + ?Sized>(
         .saturating_mul(truth.len() as u64 + 1)
         .saturating_mul(k as u64 + 1);
     let mut views: Vec<RobotView> = Vec::with_capacity(k);
+    let mut clock: Ticks = 0;
+    let mut moved = true;
     while stats.decisions < limit {
         let Some(me) = (0..k)
             .filter(|&j| !bots[j].waiting)
             .min_by_key(|&j| (bots[j].t, j))
         else {
-            break;
+            // Everybody waits. If somebody moved since the last such
+            // moment, let everybody decide once more (a robot may have
+            // stood aside for another that then stood aside too);
+            // otherwise the run is over.
+            if !moved {
+                break;
+            }
+            moved = false;
+            for b in bots.iter_mut() {
+                b.waiting = false;
+                b.t = clock;
+            }
+            continue;
         };
         let now = bots[me].t;
+        clock = clock.max(now);
         if bots[me].arriving {
             bots[me].arriving = false;
             let p = bots[me].pos;
@@ -328,6 +344,7 @@ pub fn run<S: Strategy<Vec<Block>, Vec<PlanCell>> + ?Sized>(
                 bot.pos = bounds.pos(j);
                 bot.heading = h;
                 bot.arriving = true;
+                moved = true;
                 stats.edges[me] += 1;
                 stats.turns[me] += u32::from(q);
                 stats.makespan = stats.makespan.max(bot.t);
