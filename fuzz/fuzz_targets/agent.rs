@@ -70,12 +70,13 @@ fn run<S: core_algo::explore::Strategy<Vec<Block>, Vec<PlanCell>>>(strategy: S, 
     let mut now: u32 = 0;
     while let Some(event) = script.event() {
         now = now.wrapping_add(u32::from(script.byte().unwrap_or(0)) * 97);
-        // Where the robot stands and faces before the event: a Move it
-        // commands now must leave along an arm its map knows. A Turn in the
-        // same batch comes first.
+        // Where the robot stands and faces when the event arrives: a Move it
+        // commands now must leave along an arm its map knows (after taking
+        // the event: a node hit teaches the arms first). A Turn in the same
+        // batch comes first.
         let (pos, mut heading) = agent.pose();
-        let known = agent.map().known_arms(pos);
         let Ok(commands) = agent.handle(now, event) else { continue };
+        let known = agent.map().known_arms(pos);
         for c in commands {
             match c {
                 Command::Turn(t) => heading = heading.turned(t),
