@@ -281,12 +281,14 @@ impl SimFirmware {
     fn queue(&mut self, m: Message) {
         self.outbox.push_back(m);
         self.flush();
+        if !self.outbox.is_empty() {
+            self.stats.deferred += 1;
+        }
     }
 
     fn flush(&mut self) {
         while let Some(m) = self.outbox.front() {
             if self.link.send(m.clone()).is_err() {
-                self.stats.deferred += 1;
                 break;
             }
             self.outbox.pop_front();
