@@ -26,6 +26,8 @@ pub struct Cli {
 pub enum Command {
     /// Explore a field with simulated robots and report (the default).
     Explore(crate::explore_cmd::ExploreArgs),
+    /// Run the phone side for real robots on serial ports.
+    Connect(crate::connect_cmd::ConnectArgs),
     /// Check a field file (.field, .sim, .sep, .map) and summarise it.
     Validate(ValidateArgs),
     /// Convert a field between formats (chosen by extension).
@@ -203,6 +205,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
             Ok(())
         }
         Some(Command::Explore(a)) => crate::explore_cmd::run(&a),
+        Some(Command::Connect(a)) => crate::connect_cmd::run(&a),
         Some(Command::Validate(a)) => {
             let f = load(&a.file, a.read)?;
             println!("{}: ok: {}", a.file.display(), summary(&f));

@@ -9,10 +9,12 @@
 
 pub mod bench;
 pub mod cli;
+pub mod connect_cmd;
 pub mod environment;
 pub mod explore_cmd;
 pub mod field;
 pub mod handlers;
+pub mod phone;
 pub mod proxy;
 pub mod render;
 pub mod sensor_world;

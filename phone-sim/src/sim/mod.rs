@@ -18,15 +18,14 @@ pub mod robot;
 
 use crate::environment::Environment;
 use crate::field::Field;
-use crate::handlers::{Chain, Inbound, Recipients, Relay};
-use crate::proxy::{ProxyEvent, RobotProxy, SimRobot};
+use crate::phone::PhoneSide;
+use crate::proxy::{RobotProxy, SimRobot};
 use body::{Bodies, Order};
 use channel::{ChannelFaults, ChannelStats};
 use core_algo::agent::AgentConfig;
 use core_algo::geometry::Pos;
 use core_algo::map::Bounds;
-use core_algo::protocol::message::{Broadcast, FailureKind, StrategyKind, StrategySettings};
-use core_algo::protocol::{LinkConfig, MAX_FRAME_LEN, Message, Pose};
+use core_algo::protocol::{LinkConfig, MAX_FRAME_LEN, Message};
 use core_algo::team::RobotId;
 use core_algo::timing::Timing;
 use robot::{BoxedStrategy, SimFirmware, host_agent};
@@ -115,10 +114,8 @@ pub struct Simulation {
     field: Field,
     bodies: Bodies,
     firmware: Vec<SimFirmware>,
-    proxies: Vec<SimRobot>,
-    env: Environment,
-    chain: Chain,
-    started: Vec<bool>,
+    proxies: Vec<Box<SimRobot>>,
+    phone: PhoneSide,
     paused: bool,
     done_at: Option<u32>,
 }
@@ -177,12 +174,12 @@ impl Simulation {
             .collect();
         let proxies = (0..robots)
             .map(|i| {
-                SimRobot::new(
+                Box::new(SimRobot::new(
                     RobotId(i as u8),
                     config.link,
                     config.faults.channel,
                     config.seed.wrapping_add(i as u64 * 7919),
-                )
+                ))
             })
             .collect();
         Ok(Simulation {
@@ -191,9 +188,11 @@ impl Simulation {
             bodies: Bodies::new(field.nodes().clone(), timing, &starts),
             firmware,
             proxies,
-            env: Environment::new(bounds, robots),
-            chain: Chain::standard(),
-            started: vec![false; robots],
+            phone: PhoneSide::new(
+                bounds,
+                field.starts().iter().take(robots).copied().collect(),
+                config.speed.min(u32::from(u16::MAX)) as u16,
+            ),
             paused: false,
             done_at: None,
             field: field.clone(),
@@ -208,12 +207,12 @@ impl Simulation {
 
     /// The phone side's model.
     pub fn env(&self) -> &Environment {
-        &self.env
+        self.phone.env()
     }
 
     /// The phone side's model, to subscribe views.
     pub fn env_mut(&mut self) -> &mut Environment {
-        &mut self.env
+        self.phone.env_mut()
     }
 
     /// The bodies.
@@ -227,7 +226,7 @@ impl Simulation {
     }
 
     /// The proxies.
-    pub fn proxies(&self) -> &[SimRobot] {
+    pub fn proxies(&self) -> &[Box<SimRobot>] {
         &self.proxies
     }
 
@@ -290,7 +289,7 @@ impl Simulation {
         .unwrap_or(self.next_tick)
         .max(self.now);
         self.now = next;
-        self.env.set_now(self.now);
+        self.phone.env_mut().set_now(self.now);
         self.apply_faults();
         let now = self.now;
         let mut reports = Vec::new();
@@ -325,8 +324,7 @@ impl Simulation {
                 }
             }
         }
-        self.phone_side(now);
-        self.env.check_finished();
+        self.phone.process(now, &mut self.proxies);
         if self.done_at.is_none() && self.team_done() {
             self.done_at = Some(now);
         }
@@ -357,115 +355,6 @@ impl Simulation {
         }
     }
 
-    fn phone_side(&mut self, now: u32) {
-        let mut events = Vec::new();
-        let mut relay = Relay::default();
-        for i in 0..self.proxies.len() {
-            let id = RobotId(i as u8);
-            events.clear();
-            if let Some(p) = self.proxies.get_mut(i) {
-                p.poll(now, &mut events);
-            }
-            for e in events.drain(..) {
-                match e {
-                    ProxyEvent::Message(m) => {
-                        if matches!(m, Message::Hello { .. })
-                            && !self.started.get(i).copied().unwrap_or(true)
-                        {
-                            self.start_robot(id);
-                        }
-                        self.chain.dispatch(
-                            &mut self.env,
-                            &Inbound {
-                                from: id,
-                                message: &m,
-                            },
-                            &mut relay,
-                        );
-                    }
-                    ProxyEvent::LinkUp => {
-                        self.env.update_robot(id, |r| {
-                            r.link_up = true;
-                            r.failed = false;
-                        });
-                    }
-                    ProxyEvent::LinkLost => {
-                        self.env.stats_mut().link_losses += 1;
-                        // Failed until it is heard again; the team plans
-                        // around it meanwhile.
-                        self.env.update_robot(id, |r| {
-                            r.link_up = false;
-                            r.failed = true;
-                        });
-                        relay.out.push((
-                            Recipients::AllBut(id),
-                            Message::Relayed {
-                                origin: id,
-                                broadcast: Broadcast::Failure {
-                                    kind: FailureKind::LinkLost,
-                                },
-                            },
-                        ));
-                    }
-                    ProxyEvent::Restarted => {
-                        self.env.log_line(format!("robot {id} restarted"));
-                    }
-                }
-            }
-        }
-        let n = self.proxies.len();
-        self.env.stats_mut().relayed += relay.out.len() as u64;
-        for (to, m) in relay.out.drain(..) {
-            match to {
-                Recipients::To(id) => {
-                    if let Some(p) = self.proxies.get_mut(id.index()) {
-                        p.send(m);
-                    }
-                }
-                Recipients::AllBut(origin) => {
-                    for j in (0..n).filter(|j| *j != origin.index()) {
-                        if let Some(p) = self.proxies.get_mut(j) {
-                            p.send(m.clone());
-                        }
-                    }
-                }
-            }
-        }
-        let (mut retx, mut errors) = (0u64, 0u64);
-        for p in &self.proxies {
-            let s = p.stats();
-            retx += u64::from(s.retransmissions);
-            errors += u64::from(s.link_errors);
-        }
-        let stats = self.env.stats_mut();
-        stats.retransmissions = retx;
-        stats.link_errors = errors;
-    }
-
-    fn start_robot(&mut self, id: RobotId) {
-        let Some(s) = self.field.starts().get(id.index()).copied() else {
-            return;
-        };
-        if let Some(flag) = self.started.get_mut(id.index()) {
-            *flag = true;
-        }
-        let settings = StrategySettings {
-            kind: StrategyKind::Coordinated,
-            team_size: self.firmware.len() as u8,
-            speed: self.config.speed as u16,
-        };
-        self.env.update_robot(id, |r| r.home = Some(s.pos));
-        if let Some(p) = self.proxies.get_mut(id.index()) {
-            p.send(Message::Start {
-                pose: Pose {
-                    pos: s.pos,
-                    heading: s.heading,
-                },
-                settings,
-            });
-        }
-    }
-
     fn apply_faults(&mut self) {
         let now = self.now;
         for &(id, at) in &self.config.faults.kill {
@@ -474,7 +363,8 @@ impl Simulation {
                     f.kill();
                 }
                 self.bodies.kill(id);
-                self.env
+                self.phone
+                    .env_mut()
                     .log_line(format!("fault: robot {id} dies at {now} ms"));
             }
         }
@@ -494,7 +384,7 @@ impl Simulation {
 
     /// The run's result so far.
     pub fn outcome(&self) -> Outcome {
-        let map = self.env.map();
+        let map = self.phone.env().map();
         let map_correct = self
             .field
             .nodes()
@@ -512,7 +402,7 @@ impl Simulation {
             .bodies
             .bodies()
             .iter()
-            .zip(self.env.robots())
+            .zip(self.phone.env().robots())
             .zip(&alive)
             .map(|((b, r), alive)| RobotOutcome {
                 id: r.id,
@@ -532,7 +422,7 @@ impl Simulation {
             up.sent += u.sent;
             up.lost += u.lost;
         }
-        let stats = self.env.stats();
+        let stats = self.phone.env().stats();
         Outcome {
             complete: map_correct && all_home && map.is_complete(),
             map_correct,
