@@ -149,3 +149,13 @@ proptest! {
         prop_assert!(sim.bodies().bodies().iter().all(|b| b.stats.abysses == 0));
     }
 }
+
+#[test]
+fn the_benchmark_can_run_on_the_system_simulator() {
+    let f = field::generate::rooms(10, 8, 2);
+    let bf = phone_sim::bench::BenchField::from_field(&f, f.name().to_string());
+    let stats = phone_sim::bench::run_system(&bf, 3, "tempo", 100).unwrap();
+    assert!(stats.complete);
+    assert_eq!(stats.edges.len(), 3);
+    assert!(stats.max_edges() > 0 && stats.makespan > 0);
+}

@@ -113,6 +113,52 @@ pub struct BenchArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Which model runs the teams: `world` (the node-level model: shared
+    /// map, no bodies; fast) or `system` (the whole system simulator:
+    /// agents behind real links, bodies that collide, homecoming).
+    #[arg(long, default_value = "world", value_parser = ["world", "system"])]
+    pub model: String,
+}
+
+/// Runs one team through the whole system simulator (agents behind real
+/// links, bodies, relaying) and reports it as the benchmark counts.
+pub fn run_system(f: &BenchField, k: usize, name: &str, spacing_mm: u32) -> Result<RunStats, String> {
+    use crate::sim::robot::BoxedStrategy;
+    use crate::sim::{SimConfig, Simulation};
+    let nodes: std::collections::BTreeMap<Pos, core_algo::geometry::Arms> = f
+        .truth
+        .indices()
+        .filter_map(|i| f.truth.arms_at(i).map(|a| (f.truth.bounds().pos(i), a)))
+        .collect();
+    let starts = f
+        .starts
+        .iter()
+        .map(|&(pos, heading)| crate::field::StartPose { pos, heading })
+        .collect();
+    let field = crate::field::Field::new(f.name.clone(), nodes, starts)
+        .map_err(|e| format!("{}: {e}", f.name))?
+        .with_spacing_mm(spacing_mm.clamp(1, u32::from(u16::MAX)) as u16);
+    if strategy(name).is_none() {
+        return Err(format!("unknown strategy {name}"));
+    }
+    let mut sim = Simulation::new(
+        &field,
+        k,
+        |_| BoxedStrategy(strategy(name).unwrap_or_else(|| Box::new(NearestFrontier))),
+        SimConfig::default(),
+    )
+    .map_err(|e| format!("{}: {e}", f.name))?;
+    let o = sim.run();
+    let visited = sim.env().map().visited_len();
+    Ok(RunStats {
+        complete: o.complete,
+        makespan: o.makespan_ms.div_ceil(core_algo::timing::TICK_MS),
+        edges: o.robots.iter().map(|r| r.driven_edges).collect(),
+        turns: o.robots.iter().map(|r| r.quarter_turns).collect(),
+        revisits: o.robots.iter().map(|r| r.revisits).sum(),
+        decisions: o.messages,
+        deduced: field.nodes().len().saturating_sub(visited),
+    })
 }
 
 /// One field of the benchmark with its start poses.
@@ -174,6 +220,7 @@ pub fn run_jobs(
     timing: Timing,
     jobs: usize,
     progress: bool,
+    system: Option<u32>,
 ) -> Result<Vec<Row>, String> {
     let mut list = Vec::new();
     for (fi, f) in fields.iter().enumerate() {
@@ -209,9 +256,17 @@ pub fn run_jobs(
                         break;
                     };
                     let f = &fields[*fi];
-                    let out = match strategy(name) {
-                        None => Err(format!("unknown strategy {name}")),
-                        Some(mut s) => world::run(
+                    let out = match (strategy(name), system) {
+                        (None, _) => Err(format!("unknown strategy {name}")),
+                        (Some(_), Some(spacing)) => run_system(f, *k, name, spacing).map(|stats| Row {
+                            map: f.name.clone(),
+                            robots: *k,
+                            strategy: name.clone(),
+                            stats,
+                            lower_bound_edges: *lb,
+                            timing,
+                        }),
+                        (Some(mut s), None) => world::run(
                             &f.truth,
                             &f.starts[..*k],
                             s.as_mut(),
@@ -299,6 +354,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         timing,
         jobs,
         !args.quiet,
+        (args.model == "system").then_some(args.spacing_mm),
     )?;
     let text = csv(&rows);
     match &args.csv {
