@@ -122,7 +122,12 @@ pub struct BenchArgs {
 
 /// Runs one team through the whole system simulator (agents behind real
 /// links, bodies, relaying) and reports it as the benchmark counts.
-pub fn run_system(f: &BenchField, k: usize, name: &str, spacing_mm: u32) -> Result<RunStats, String> {
+pub fn run_system(
+    f: &BenchField,
+    k: usize,
+    name: &str,
+    spacing_mm: u32,
+) -> Result<RunStats, String> {
     use crate::sim::robot::BoxedStrategy;
     use crate::sim::{SimConfig, Simulation};
     let nodes: std::collections::BTreeMap<Pos, core_algo::geometry::Arms> = f
@@ -258,14 +263,16 @@ pub fn run_jobs(
                     let f = &fields[*fi];
                     let out = match (strategy(name), system) {
                         (None, _) => Err(format!("unknown strategy {name}")),
-                        (Some(_), Some(spacing)) => run_system(f, *k, name, spacing).map(|stats| Row {
-                            map: f.name.clone(),
-                            robots: *k,
-                            strategy: name.clone(),
-                            stats,
-                            lower_bound_edges: *lb,
-                            timing,
-                        }),
+                        (Some(_), Some(spacing)) => {
+                            run_system(f, *k, name, spacing).map(|stats| Row {
+                                map: f.name.clone(),
+                                robots: *k,
+                                strategy: name.clone(),
+                                stats,
+                                lower_bound_edges: *lb,
+                                timing,
+                            })
+                        }
                         (Some(mut s), None) => world::run(
                             &f.truth,
                             &f.starts[..*k],

@@ -3,12 +3,14 @@
 //! e-puck, sits behind the one [`RobotProxy`] trait, so the environment,
 //! the handlers and the UI never know which kind they talk to.
 
+pub mod legacy;
 pub mod serial;
 pub mod sim;
 
 use core_algo::protocol::Message;
 use core_algo::team::RobotId;
 
+pub use legacy::LegacyRobot;
 pub use serial::SerialRobot;
 pub use sim::SimRobot;
 
