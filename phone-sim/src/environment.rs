@@ -222,7 +222,9 @@ impl Environment {
             Ok(_) => true,
             Err(MapError::Conflict(c)) => {
                 self.stats.conflicts += 1;
-                self.publish(Update::Log(format!("robot {id}: {c}")));
+                self.publish(Update::Log(format!(
+                    "robot {id}: conflicting report, not applied: {c}"
+                )));
                 false
             }
             Err(e) => {

@@ -246,3 +246,120 @@ impl Handler for BroadcastHandler {
         true
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use core_algo::geometry::{Arms, Heading, Pos};
+    use core_algo::map::Bounds;
+    use core_algo::protocol::Pose;
+
+    fn env() -> Environment {
+        Environment::new(Bounds::new(Pos::new(0, 0), 4, 4), 2)
+    }
+
+    fn hit(pos: Pos, arms: Arms) -> Message {
+        Message::NodeHit {
+            pose: Pose {
+                pos,
+                heading: Heading::North,
+            },
+            arms,
+        }
+    }
+
+    #[test]
+    fn node_hits_go_into_the_map_and_out_to_the_others() {
+        let (mut env, mut chain, mut relay) = (env(), Chain::standard(), Relay::default());
+        let m = hit(Pos::new(1, 1), Arms::CROSS);
+        assert!(chain.dispatch(
+            &mut env,
+            &Inbound {
+                from: RobotId(0),
+                message: &m
+            },
+            &mut relay
+        ));
+        assert_eq!(env.map().known_arms(Pos::new(1, 1)), Some(Arms::CROSS));
+        assert_eq!(relay.out.len(), 1);
+        assert_eq!(relay.out[0].0, Recipients::AllBut(RobotId(0)));
+        assert_eq!(env.node_log().len(), 1);
+        assert_eq!(env.robot(RobotId(0)).map(|r| r.explored), Some(1));
+    }
+
+    #[test]
+    fn bad_input_is_counted_and_the_run_goes_on() {
+        let (mut env, mut chain, mut relay) = (env(), Chain::standard(), Relay::default());
+        let updates = env.subscribe();
+        // An unknown robot id.
+        let m = hit(Pos::new(1, 1), Arms::CROSS);
+        assert!(!chain.dispatch(
+            &mut env,
+            &Inbound {
+                from: RobotId(7),
+                message: &m
+            },
+            &mut relay
+        ));
+        assert_eq!(env.stats().unknown_robots, 1);
+        // A shape that conflicts with the map: logged, counted, not applied,
+        // not relayed.
+        chain.dispatch(
+            &mut env,
+            &Inbound {
+                from: RobotId(0),
+                message: &m,
+            },
+            &mut relay,
+        );
+        let lie = hit(Pos::new(1, 1), Arms::NONE.with(Heading::North));
+        relay.out.clear();
+        assert!(chain.dispatch(
+            &mut env,
+            &Inbound {
+                from: RobotId(1),
+                message: &lie
+            },
+            &mut relay
+        ));
+        assert_eq!(env.stats().conflicts, 1);
+        assert!(relay.out.is_empty());
+        assert_eq!(env.map().known_arms(Pos::new(1, 1)), Some(Arms::CROSS));
+        // A message the phone does not expect from a robot: unhandled, counted.
+        assert!(!chain.dispatch(
+            &mut env,
+            &Inbound {
+                from: RobotId(0),
+                message: &Message::Move
+            },
+            &mut relay
+        ));
+        assert_eq!(env.stats().unhandled, 1);
+        assert!(
+            updates
+                .try_iter()
+                .any(|u| matches!(u, crate::environment::Update::Log(l) if l.contains("conflict")))
+        );
+    }
+
+    #[test]
+    fn a_robot_may_only_speak_for_itself() {
+        let (mut env, mut chain, mut relay) = (env(), Chain::standard(), Relay::default());
+        let forged = Message::Relayed {
+            origin: RobotId(1),
+            broadcast: Broadcast::Failure {
+                kind: core_algo::protocol::message::FailureKind::Abyss,
+            },
+        };
+        assert!(!chain.dispatch(
+            &mut env,
+            &Inbound {
+                from: RobotId(0),
+                message: &forged
+            },
+            &mut relay
+        ));
+        assert!(relay.out.is_empty());
+        assert_eq!(env.robot(RobotId(1)).map(|r| r.failed), Some(false));
+    }
+}
