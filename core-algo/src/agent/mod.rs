@@ -34,9 +34,13 @@ use crate::geometry::{Arms, Heading, Pos, Turn};
 use crate::map::{Block, KnownMap, MapError};
 use crate::path::{DistField, Flow, PlanCell};
 use crate::team::RobotId;
-use crate::timing::{TICK_MS, Ticks, Timing};
+use crate::timing::{TICK_MS, Ticks};
 use heapless::Vec;
 
+mod homecoming;
+mod io;
+
+pub use io::{AgentConfig, AgentError, Command, Event, ManualOrder, Mode, PeerNews};
 #[cfg(test)]
 mod tests;
 
@@ -51,158 +55,6 @@ pub const MAX_COMMANDS: usize = 6;
 
 /// The commands one event produced, in the order to carry them out.
 pub type Commands = Vec<Command, MAX_COMMANDS>;
-
-/// What the agent is doing.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum Mode {
-    /// Not started.
-    Idle,
-    /// Agreeing on a frame with the team (see `localize`).
-    Localize,
-    /// Driving to frontier nodes.
-    Explore,
-    /// Nothing reachable left for this robot: driving home.
-    Return,
-    /// Home, and the team is done.
-    Finished,
-    /// A person steers.
-    Manual,
-    /// Gave up after repeated refusals or an inconsistent start.
-    Error,
-}
-
-/// News about another robot, relayed by the phone side.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum PeerNews {
-    /// It reached node `pos` facing `heading`, and the node has `arms`.
-    NodeHit {
-        /// The node.
-        pos: Pos,
-        /// The way it faces.
-        heading: Heading,
-        /// The node's arms, in the global frame.
-        arms: Arms,
-    },
-    /// It announced its target (`None`: it has none).
-    Intent {
-        /// The frontier node it is driving to.
-        target: Option<Pos>,
-    },
-    /// It is known to stand at a start pose (sent once at the start).
-    Start {
-        /// Its start node and home.
-        pos: Pos,
-        /// Its start heading.
-        heading: Heading,
-    },
-    /// It failed (link lost, stuck): forget its target.
-    Failed,
-}
-
-/// A manual order from the person steering this robot.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum ManualOrder {
-    /// Take over: finish the current edge, then wait for orders.
-    Take,
-    /// Hand back: explore again.
-    Release,
-    /// Turn on the node.
-    Turn(Turn),
-    /// Drive one edge straight on (refused where no arm is known).
-    Move,
-}
-
-/// Something that happened to or around the robot.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum Event {
-    /// Begin at a pose of the team's frame.
-    Start {
-        /// The start node: this robot's home.
-        pos: Pos,
-        /// The start heading.
-        heading: Heading,
-    },
-    /// The robot stands on a node, with arms relative to its heading (bit 0
-    /// ahead, 1 right, 2 behind, 3 left), as its floor sensors saw them.
-    NodeHit {
-        /// Arms relative to the robot.
-        relative: Arms,
-    },
-    /// The robot met an obstacle on its edge and is back on the node it
-    /// left, facing back the way it came.
-    Collision,
-    /// The robot refused the last command.
-    Rejected,
-    /// Standing still, the robot saw another robot come close from
-    /// `toward` and turn back: it stands in someone's way.
-    Bumped {
-        /// Where the other robot came from.
-        toward: Heading,
-    },
-    /// News about another robot.
-    Peer(RobotId, PeerNews),
-    /// An order from the person steering.
-    Manual(ManualOrder),
-    /// Time passes: timeouts and back-offs.
-    Tick,
-}
-
-/// An order to the robot's body or a message for the team.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum Command {
-    /// Turn on the spot.
-    Turn(Turn),
-    /// Drive along the line to the next node.
-    Move,
-    /// Tell the team about this node (relayed to everyone).
-    Report {
-        /// The node.
-        pos: Pos,
-        /// Its arms, global frame.
-        arms: Arms,
-        /// The robot's heading there.
-        heading: Heading,
-    },
-    /// Tell the team this robot's target (`None`: no target).
-    Announce {
-        /// The frontier node.
-        target: Option<Pos>,
-    },
-    /// This robot is home and the team is done.
-    Finished,
-    /// Stop everything (error).
-    Stop,
-}
-
-/// Tunables of the agent.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub struct AgentConfig {
-    /// The one truth about timing.
-    pub timing: Timing,
-    /// A teammate silent for longer counts as failed.
-    pub peer_timeout_ms: Millis,
-    /// First back-off after a collision or refusal; doubled each retry.
-    pub backoff_ms: Millis,
-}
-
-impl Default for AgentConfig {
-    fn default() -> Self {
-        AgentConfig {
-            timing: Timing::DEFAULT,
-            peer_timeout_ms: 30_000,
-            backoff_ms: 400,
-        }
-    }
-}
-
-/// Why the agent could not take an event.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum AgentError {
-    /// The map refused the robot's own observation.
-    Map(MapError),
-    /// The event does not fit the current state (counted, ignored).
-    Unexpected,
-}
 
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 enum Motion {
@@ -458,46 +310,6 @@ where
             until: self.now.wrapping_add(wait),
         };
         let _ = out;
-        Ok(())
-    }
-
-    /// Makes way: a robot standing idle on someone's route (typically at
-    /// home, where another robot's way home may lead through) drives one
-    /// edge away from the other robot, waits, and plans again.
-    fn on_bumped(&mut self, toward: Heading, out: &mut Commands) -> Result<(), AgentError> {
-        if !self.is_standing()
-            || !matches!(self.mode, Mode::Explore | Mode::Return | Mode::Finished)
-        {
-            return Err(AgentError::Unexpected);
-        }
-        if self.mode == Mode::Finished {
-            // Someone still moves: we were wrong that the team is done.
-            self.mode = Mode::Return;
-            self.finished_sent = false;
-        }
-        let occupied = |p: Pos| {
-            self.peers
-                .iter()
-                .any(|q| q.known && !q.failed && q.pos == p)
-        };
-        let candidates = [
-            toward.opposite(),
-            toward.turned(Turn::Right),
-            toward.turned(Turn::Left),
-        ];
-        let escape = candidates
-            .into_iter()
-            .filter(|h| self.can_move(*h))
-            .min_by_key(|h| self.pos.step(*h).is_some_and(occupied));
-        let Some(h) = escape else {
-            return Err(AgentError::Unexpected);
-        };
-        self.escaping = true;
-        if let Some(t) = self.heading.turn_to(h) {
-            self.heading = h;
-            push(out, Command::Turn(t));
-        }
-        self.start_move(out);
         Ok(())
     }
 
@@ -776,87 +588,6 @@ where
                 push(out, Command::Turn(t));
                 self.start_move(out);
             }
-        }
-    }
-
-    /// Homecoming without deadlock: robots cannot pass each other on a
-    /// line, so a robot whose home lies on a returning team mate's way home
-    /// waits off every returning team mate's way, as near to its home as it
-    /// can, until they are in. Needs one planner field per team mate
-    /// (`K > 1`); with a single field the decision is kept as it is.
-    fn keep_out_of_the_way(&mut self, decision: Decision) -> Decision {
-        let bounds = self.map.bounds();
-        let Some(my_home) = bounds.index(self.home) else {
-            return decision;
-        };
-        let me = self.id.index();
-        let (timing, pos, heading) = (self.config.timing, self.pos, self.heading);
-        let map = &self.map;
-        let Some((mine, rest)) = self.fields.split_first_mut() else {
-            return decision;
-        };
-        // (field in `rest`, peer home index, peer goes first) of every
-        // returning team mate.
-        let mut pending: Vec<(usize, usize, bool), MAX_ROBOTS> = Vec::new();
-        let mut homes: Vec<Pos, MAX_ROBOTS> = Vec::new();
-        for (i, p) in self.peers.iter().enumerate() {
-            if i == me || !p.known || p.failed {
-                continue;
-            }
-            let _ = homes.push(p.home);
-            let slot = pending.len();
-            let (false, Some(h), Some(field)) =
-                (p.pos == p.home, bounds.index(p.home), rest.get_mut(slot))
-            else {
-                continue;
-            };
-            // A total order (by id), so that robots never wait for each
-            // other in a circle; a lower id whose way home is blocked by a
-            // higher id already home is handled by making way.
-            let first = i < me;
-            let result = field.compute(map, timing, p.pos, p.heading, |v, _| {
-                if v == h { Flow::Stop } else { Flow::Continue }
-            });
-            if result.is_ok() {
-                let _ = pending.push((slot, h, first));
-            }
-        }
-        let rest = &*rest;
-        let on_way = |v: usize, only_first: bool| {
-            pending
-                .iter()
-                .filter(|e| e.2 || !only_first)
-                .any(|&(s, h, _)| rest.get(s).is_some_and(|f| f.path_passes(map, h, v)))
-        };
-        let on_someones_way = |v: usize| on_way(v, false);
-        let gated = on_way(my_home, true);
-        // Never wait for ever: after a while, go and let the make-way
-        // behaviour sort it out.
-        let now = self.now;
-        let since = *self.gated_since.get_or_insert(now);
-        let patience = timing.edge.saturating_mul(TICK_MS).saturating_mul(40);
-        if !gated || now.wrapping_sub(since) > patience {
-            if !gated {
-                self.gated_since = None;
-            }
-            return decision;
-        }
-        // Gated: find the nearest node off every returning robot's way that
-        // is nobody's home, and go there (or stay, if here).
-        let mut spot = None;
-        let computed = mine.compute(map, timing, pos, heading, |v, _| {
-            if v != my_home && !homes.contains(&bounds.pos(v)) && !on_someones_way(v) {
-                spot = Some(v);
-                return Flow::Stop;
-            }
-            Flow::Continue
-        });
-        match (computed, spot) {
-            (Ok(()), Some(v)) => Decision {
-                goal: Goal::Home,
-                next: mine.first_heading(map, v),
-            },
-            _ => Decision::STAY,
         }
     }
 
