@@ -5,13 +5,15 @@
 //! side the robot looks like any other (it "sends" node hits and intents).
 
 use super::{ProxyEvent, ProxyStats, RobotProxy};
-use crate::sim::robot::{BoxedStrategy, HostAgent, SIM_FIRMWARE, host_agent, node_hit};
-use core_algo::agent::{AgentConfig, Command, Event as AgentEvent, ManualOrder, PeerNews};
+use crate::sim::robot::{
+    BoxedStrategy, HostAgent, SIM_FIRMWARE, agent_event, host_agent, node_hit,
+};
+use core_algo::agent::{AgentConfig, Command, Event as AgentEvent};
 use core_algo::map::Bounds;
 use core_algo::protocol::legacy::{
     FRAME_LEN, LegacyRequest, LegacyResponse, LegacyStream, relative_arms,
 };
-use core_algo::protocol::message::{Broadcast, RobotState, Status};
+use core_algo::protocol::message::{RobotState, Status};
 use core_algo::protocol::{Message, Pose};
 use core_algo::team::RobotId;
 use std::collections::VecDeque;
@@ -150,43 +152,16 @@ impl<T: Read + Write + Send> RobotProxy for LegacyRobot<T> {
     fn send(&mut self, message: Message) {
         // `now` is not known here; events that need it are fed at 0 and
         // the agent's next tick carries the clock on.
-        let event = match message {
-            Message::Start { pose, .. } => {
-                self.queue.push_back(LegacyRequest::Status);
-                AgentEvent::Start {
-                    pos: pose.pos,
-                    heading: pose.heading,
-                }
+        let Some(event) = agent_event(&message) else {
+            if let Some(r) = LegacyRequest::from_message(&message) {
+                self.queue.push_back(r);
             }
-            Message::Relayed { origin, broadcast } => match broadcast {
-                Broadcast::NodeHit { pose, arms } => AgentEvent::Peer(
-                    origin,
-                    PeerNews::NodeHit {
-                        pos: pose.pos,
-                        heading: pose.heading,
-                        arms,
-                    },
-                ),
-                Broadcast::Intent { target } => {
-                    AgentEvent::Peer(origin, PeerNews::Intent { target })
-                }
-                Broadcast::Failure { .. } => AgentEvent::Peer(origin, PeerNews::Failed),
-                Broadcast::Localize(_) => return,
-            },
-            Message::Manual { on } => AgentEvent::Manual(if on {
-                ManualOrder::Take
-            } else {
-                ManualOrder::Release
-            }),
-            Message::Turn(t) => AgentEvent::Manual(ManualOrder::Turn(t)),
-            Message::Move => AgentEvent::Manual(ManualOrder::Move),
-            other => {
-                if let Some(r) = LegacyRequest::from_message(&other) {
-                    self.queue.push_back(r);
-                }
-                return;
-            }
+            return;
         };
+        if matches!(event, AgentEvent::Start { .. }) {
+            // The 2010 robot scans the node under it when asked its status.
+            self.queue.push_back(LegacyRequest::Status);
+        }
         let now = self.in_flight.map_or(0, |(_, t)| t);
         self.feed(now, event);
     }

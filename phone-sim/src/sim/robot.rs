@@ -209,39 +209,13 @@ impl SimFirmware {
             let LinkEvent::Received { message, .. } = ev else {
                 continue;
             };
-            let event = match message {
-                Message::Start { pose, .. } => AgentEvent::Start {
-                    pos: pose.pos,
-                    heading: pose.heading,
-                },
-                Message::Relayed { origin, broadcast } => match broadcast {
-                    Broadcast::NodeHit { pose, arms } => AgentEvent::Peer(
-                        origin,
-                        PeerNews::NodeHit {
-                            pos: pose.pos,
-                            heading: pose.heading,
-                            arms,
-                        },
-                    ),
-                    Broadcast::Intent { target } => {
-                        AgentEvent::Peer(origin, PeerNews::Intent { target })
-                    }
-                    Broadcast::Failure { .. } => AgentEvent::Peer(origin, PeerNews::Failed),
-                    Broadcast::Localize(_) => continue,
-                },
-                Message::Manual { on } => AgentEvent::Manual(if on {
-                    ManualOrder::Take
-                } else {
-                    ManualOrder::Release
-                }),
-                Message::Turn(t) => AgentEvent::Manual(ManualOrder::Turn(t)),
-                Message::Move => AgentEvent::Manual(ManualOrder::Move),
-                Message::RequestStatus => {
-                    let s = self.status(now);
-                    self.link.send_datagram(s);
-                    continue;
-                }
-                _ => continue,
+            if message == Message::RequestStatus {
+                let s = self.status(now);
+                self.link.send_datagram(s);
+                continue;
+            }
+            let Some(event) = agent_event(&message) else {
+                continue;
             };
             self.feed(now, event, orders);
         }
@@ -294,6 +268,42 @@ impl SimFirmware {
             self.outbox.pop_front();
         }
     }
+}
+
+/// What a phone → robot message means to the robot's agent, if anything:
+/// shared by every body that carries an agent (the simulated firmware, the
+/// phone-side brain of a 2010 robot).
+pub fn agent_event(message: &Message) -> Option<AgentEvent> {
+    Some(match *message {
+        Message::Start { pose, .. } => AgentEvent::Start {
+            pos: pose.pos,
+            heading: pose.heading,
+        },
+        Message::Relayed {
+            origin,
+            ref broadcast,
+        } => match *broadcast {
+            Broadcast::NodeHit { pose, arms } => AgentEvent::Peer(
+                origin,
+                PeerNews::NodeHit {
+                    pos: pose.pos,
+                    heading: pose.heading,
+                    arms,
+                },
+            ),
+            Broadcast::Intent { target } => AgentEvent::Peer(origin, PeerNews::Intent { target }),
+            Broadcast::Failure { .. } => AgentEvent::Peer(origin, PeerNews::Failed),
+            Broadcast::Localize(_) => return None,
+        },
+        Message::Manual { on } => AgentEvent::Manual(if on {
+            ManualOrder::Take
+        } else {
+            ManualOrder::Release
+        }),
+        Message::Turn(t) => AgentEvent::Manual(ManualOrder::Turn(t)),
+        Message::Move => AgentEvent::Manual(ManualOrder::Move),
+        _ => return None,
+    })
 }
 
 /// A node-hit message.
