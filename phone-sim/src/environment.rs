@@ -46,6 +46,8 @@ pub struct RobotInfo {
     pub failed: bool,
     /// The path it drove, node by node (for the map's trails).
     pub trail: Vec<Pos>,
+    /// The nodes it reported, to count revisits in O(1).
+    pub seen: std::collections::HashSet<Pos>,
 }
 
 impl RobotInfo {
@@ -66,6 +68,7 @@ impl RobotInfo {
             finished: false,
             failed: false,
             trail: Vec::new(),
+            seen: std::collections::HashSet::new(),
         }
     }
 }
@@ -153,6 +156,9 @@ impl Environment {
     }
 
     fn publish(&mut self, u: Update) {
+        if self.subscribers.is_empty() {
+            return;
+        }
         self.subscribers.retain(|s| s.send(u.clone()).is_ok());
     }
 
@@ -204,8 +210,11 @@ impl Environment {
             return false;
         };
         f(r);
-        let snapshot = Box::new(r.clone());
-        self.publish(Update::Robot(snapshot));
+        // Snapshots cost a copy of the robot's trail: only for listeners.
+        if !self.subscribers.is_empty() {
+            let snapshot = Box::new(r.clone());
+            self.publish(Update::Robot(snapshot));
+        }
         true
     }
 
@@ -240,7 +249,8 @@ impl Environment {
             r.driven += 1;
             if ok && !known_before {
                 r.explored += 1;
-            } else if r.trail.contains(&pose.pos) {
+            }
+            if !r.seen.insert(pose.pos) {
                 r.revisits += 1;
             }
             if r.trail.last() != Some(&pose.pos) {
