@@ -57,7 +57,8 @@ pub trait RobotProxy: Send {
     fn stats(&self) -> ProxyStats;
 }
 
-/// The link-level part every protocol-speaking proxy shares: a reliable
+/// The link-level part every protocol-speaking endpoint on the host shares
+/// (proxies, and the simulated robots' firmware): a reliable
 /// [`Link`](core_algo::protocol::Link) and an unbounded outbox in front of
 /// its fixed window.
 pub(crate) struct LinkEnd {
@@ -66,9 +67,9 @@ pub(crate) struct LinkEnd {
 }
 
 impl LinkEnd {
-    pub fn new(config: core_algo::protocol::LinkConfig, session: u32) -> Self {
+    pub fn new(config: core_algo::protocol::LinkConfig, local: RobotId, nonce: u32) -> Self {
         LinkEnd {
-            link: core_algo::protocol::Link::new(config, core_algo::protocol::PHONE, session),
+            link: core_algo::protocol::Link::new(config, local, nonce),
             outbox: std::collections::VecDeque::new(),
         }
     }
@@ -76,6 +77,11 @@ impl LinkEnd {
     pub fn send(&mut self, m: Message) {
         self.outbox.push_back(m);
         self.flush();
+    }
+
+    /// Messages still waiting for room in the window.
+    pub fn queued(&self) -> usize {
+        self.outbox.len()
     }
 
     pub fn flush(&mut self) {

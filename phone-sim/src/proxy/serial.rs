@@ -30,7 +30,7 @@ impl SerialRobot {
             id,
             name: path.to_string(),
             port,
-            end: LinkEnd::new(link, fresh_nonce()),
+            end: LinkEnd::new(link, core_algo::protocol::PHONE, fresh_nonce()),
             io_errors: 0,
         })
     }

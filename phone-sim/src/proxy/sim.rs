@@ -21,7 +21,7 @@ impl SimRobot {
     pub fn new(id: RobotId, link: LinkConfig, faults: ChannelFaults, seed: u64) -> Self {
         SimRobot {
             id,
-            end: LinkEnd::new(link, nonce(seed, 0x9E37_79B9)),
+            end: LinkEnd::new(link, core_algo::protocol::PHONE, nonce(seed, 0x9E37_79B9)),
             down: Channel::new(faults, seed ^ 0x5eed_d0e5),
             up: Channel::new(faults, seed ^ 0x0005_eed0),
         }

@@ -337,20 +337,22 @@ impl Simulation {
         self.outcome()
     }
 
+    /// Hands `orders` to robot `id`'s body. An order can end at once (no
+    /// line ahead): its report goes back to the firmware, whose answer is
+    /// ordered in turn, until nothing more happens at this instant.
     fn order(&mut self, id: RobotId, orders: &mut Vec<Order>) {
+        let mut pending: Vec<(RobotId, Order)> = orders.drain(..).map(|o| (id, o)).collect();
         let mut reports = Vec::new();
-        for o in orders.drain(..) {
-            self.bodies.order(id, o, self.now, &mut reports);
-        }
-        // An order can end at once (no line ahead).
         let mut more = Vec::new();
-        for (rid, r) in reports {
-            if let Some(f) = self.firmware.get_mut(rid.index()) {
-                f.on_report(self.now, r, &mut more);
+        while !pending.is_empty() {
+            for (rid, o) in pending.drain(..) {
+                self.bodies.order(rid, o, self.now, &mut reports);
             }
-            for o in more.drain(..) {
-                let mut ignored = Vec::new();
-                self.bodies.order(rid, o, self.now, &mut ignored);
+            for (rid, r) in reports.drain(..) {
+                if let Some(f) = self.firmware.get_mut(rid.index()) {
+                    f.on_report(self.now, r, &mut more);
+                }
+                pending.extend(more.drain(..).map(|o| (rid, o)));
             }
         }
     }

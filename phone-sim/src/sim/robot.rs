@@ -4,6 +4,7 @@
 //! edges whole).
 
 use super::body::{Order, Report};
+use crate::proxy::LinkEnd;
 use core_algo::agent::{Agent, AgentConfig, Command, Event as AgentEvent, ManualOrder, PeerNews};
 use core_algo::explore::{Context, Decision, MAX_ROBOTS, Strategy};
 use core_algo::geometry::{Arms, Heading, Pos};
@@ -11,9 +12,8 @@ use core_algo::map::{Block, Bounds, KnownMap, blocks_for};
 use core_algo::path::{DistField, PlanCell, PlanError, min_cells};
 use core_algo::protocol::link::Event as LinkEvent;
 use core_algo::protocol::message::{Broadcast, FailureKind, FirmwareVersion, RobotState, Status};
-use core_algo::protocol::{Link, LinkConfig, Message, Pose};
+use core_algo::protocol::{LinkConfig, Message, Pose};
 use core_algo::team::RobotId;
-use std::collections::VecDeque;
 
 /// A strategy chosen at run time, as the simulator and the phone side hold
 /// them.
@@ -74,8 +74,7 @@ pub struct FirmwareStats {
 pub struct SimFirmware {
     id: RobotId,
     agent: HostAgent,
-    link: Link,
-    outbox: VecDeque<Message>,
+    end: LinkEnd,
     finished: bool,
     dead: bool,
     stats: FirmwareStats,
@@ -88,8 +87,7 @@ impl SimFirmware {
         SimFirmware {
             id,
             agent,
-            link: Link::new(link_config, id, nonce),
-            outbox: VecDeque::new(),
+            end: LinkEnd::new(link_config, id, nonce),
             finished: false,
             dead: false,
             stats: FirmwareStats::default(),
@@ -136,7 +134,7 @@ impl SimFirmware {
         if self.dead {
             return;
         }
-        self.link.on_bytes(now, bytes);
+        self.end.link.on_bytes(now, bytes);
         self.drain_link(now, orders);
     }
 
@@ -175,7 +173,7 @@ impl SimFirmware {
                 firmware: SIM_FIRMWARE,
             });
         }
-        self.link.tick(now);
+        self.end.link.tick(now);
         self.drain_link(now, orders);
         self.feed(now, AgentEvent::Tick, orders);
     }
@@ -185,8 +183,8 @@ impl SimFirmware {
         if self.dead {
             return None;
         }
-        self.flush();
-        self.link.poll_transmit(now, buf)
+        self.end.flush();
+        self.end.link.poll_transmit(now, buf)
     }
 
     fn status(&self, now: u32) -> Message {
@@ -205,13 +203,13 @@ impl SimFirmware {
     }
 
     fn drain_link(&mut self, now: u32, orders: &mut Vec<Order>) {
-        while let Some(ev) = self.link.poll_event() {
+        while let Some(ev) = self.end.link.poll_event() {
             let LinkEvent::Received { message, .. } = ev else {
                 continue;
             };
             if message == Message::RequestStatus {
                 let s = self.status(now);
-                self.link.send_datagram(s);
+                self.end.link.send_datagram(s);
                 continue;
             }
             let Some(event) = agent_event(&message) else {
@@ -253,19 +251,9 @@ impl SimFirmware {
     }
 
     fn queue(&mut self, m: Message) {
-        self.outbox.push_back(m);
-        self.flush();
-        if !self.outbox.is_empty() {
+        self.end.send(m);
+        if self.end.queued() > 0 {
             self.stats.deferred += 1;
-        }
-    }
-
-    fn flush(&mut self) {
-        while let Some(m) = self.outbox.front() {
-            if self.link.send(m.clone()).is_err() {
-                break;
-            }
-            self.outbox.pop_front();
         }
     }
 }

@@ -40,19 +40,10 @@ impl Truth {
     /// given (the field loader validates reciprocity).
     pub fn new(nodes: impl IntoIterator<Item = (Pos, Arms)>) -> Truth {
         let nodes: Vec<(Pos, Arms)> = nodes.into_iter().collect();
-        let (mut x0, mut y0, mut x1, mut y1) = (i16::MAX, i16::MAX, i16::MIN, i16::MIN);
-        for (p, _) in &nodes {
-            x0 = x0.min(p.x);
-            y0 = y0.min(p.y);
-            x1 = x1.max(p.x);
-            y1 = y1.max(p.y);
-        }
         let bounds = if nodes.is_empty() {
             Bounds::new(Pos::new(0, 0), 0, 0)
         } else {
-            let w = (i32::from(x1) - i32::from(x0) + 1) as u16;
-            let h = (i32::from(y1) - i32::from(y0) + 1) as u16;
-            Bounds::new(Pos::new(x0, y0), w, h)
+            crate::field::bounding_box(nodes.iter().map(|(p, _)| *p))
         };
         let mut arms = vec![None; bounds.area()];
         for (p, a) in &nodes {
