@@ -18,5 +18,6 @@ pub mod phone;
 pub mod proxy;
 pub mod render;
 pub mod sensor_world;
+pub mod serve;
 pub mod sim;
 pub mod world;

@@ -212,6 +212,11 @@ impl SimFirmware {
                 self.end.link.send_datagram(s);
                 continue;
             }
+            if let Message::SetSpeed { steps_per_s } = message {
+                // The motors' business, not the agent's.
+                orders.push(Order::SetSpeed(steps_per_s));
+                continue;
+            }
             let Some(event) = agent_event(&message) else {
                 continue;
             };
