@@ -156,6 +156,11 @@ function wireControls() {
   for (const b of document.querySelectorAll("nav button")) {
     b.addEventListener("click", () => setView(b.dataset.view));
   }
+  $("btn-menu").addEventListener("click", () => {
+    const on = document.body.classList.toggle("show-controls");
+    $("btn-menu").setAttribute("aria-expanded", String(on));
+    requestAnimationFrame(render);
+  });
   $("btn-start").addEventListener("click", () => send({
     type: "start", field: $("field").value, robots: Number($("robots").value),
     strategy: $("strategy").value, seed: Number($("seed").value),
@@ -262,9 +267,12 @@ function fit() {
     const [bx, by, bw, bh] = model.run.bounds; xs = [bx, bx + bw - 1]; ys = [by, by + bh - 1];
   }
   if (!xs.length) return;
-  const minx = Math.min(...xs) - 1, maxx = Math.max(...xs) + 1;
-  const miny = Math.min(...ys) - 1, maxy = Math.max(...ys) + 1;
-  const s = Math.max(4, Math.min(w / (maxx - minx), h / (maxy - miny), 80));
+  // At least 8 nodes across, so that a fresh map is not blown up.
+  const cx = (Math.min(...xs) + Math.max(...xs)) / 2, cy = (Math.min(...ys) + Math.max(...ys)) / 2;
+  const spanx = Math.max(8, Math.max(...xs) - Math.min(...xs) + 2);
+  const spany = Math.max(8, Math.max(...ys) - Math.min(...ys) + 2);
+  const minx = cx - spanx / 2, maxx = cx + spanx / 2, miny = cy - spany / 2, maxy = cy + spany / 2;
+  const s = Math.max(2, Math.min(w / (maxx - minx), h / (maxy - miny), 80));
   ui.view.s = s;
   ui.view.ox = w / 2 - ((minx + maxx) / 2) * s;
   ui.view.oy = h / 2 + ((miny + maxy) / 2) * s;
@@ -359,7 +367,8 @@ function drawRobot(r, s) {
   ctx.closePath(); ctx.fill();
   ctx.fillStyle = "#10161d"; ctx.font = "bold " + Math.max(10, Math.round(rad * 0.9)) + "px system-ui";
   ctx.textAlign = "left"; ctx.textBaseline = "bottom";
-  ctx.fillText(String(r.id) + (r.manual ? " ✋" : "") + (r.link_up ? "" : " ⚠"), cx + rad * 0.8, cy - rad * 0.6);
+  ctx.fillText(String(r.id) + (r.manual ? " (manual)" : "") + (r.failed && !r.link_up ? " (link lost)" : ""),
+    cx + rad * 0.8, cy - rad * 0.6);
 }
 
 function wireMap() {
@@ -435,7 +444,7 @@ function render() {
 
 function renderSteer() {
   const list = $("robot-list");
-  const sig = model.robots.map((r) => [r.id, r.manual, r.link_up, r.failed, r.id === ui.selected].join()).join(";");
+  const sig = model.robots.map((r) => [r.id, r.manual, r.link_up && !r.failed, r.id === ui.selected].join()).join(";");
   if (list.dataset.sig !== sig) {
     list.innerHTML = "";
     for (const r of model.robots) {
@@ -443,7 +452,7 @@ function renderSteer() {
       b.dataset.robot = r.id;
       b.setAttribute("aria-pressed", String(r.id === ui.selected));
       b.innerHTML = '<i class="dot" style="background:' + COLORS[r.id % COLORS.length] + '"></i>robot ' + r.id +
-        (r.manual ? " ✋" : "") + (r.link_up ? "" : ' <span class="badge">link lost</span>');
+        (r.manual ? " (manual)" : "") + (r.failed && !r.link_up ? ' <span class="badge">link lost</span>' : "");
       b.addEventListener("click", () => { ui.selected = r.id; render(); });
       list.appendChild(b);
     }
@@ -458,7 +467,7 @@ function renderSteer() {
   $("btn-cut").disabled = !r || !model.run || model.run.mode !== "sim";
   $("steer-info").textContent = r
     ? "robot " + r.id + ": " + r.state + (r.node ? " at (" + r.node[0] + ", " + r.node[1] + ") facing " + "NESW"[r.heading] : "") +
-      (r.link_up ? "" : ", link lost")
+      (r.failed && !r.link_up ? ", link lost" : "")
     : "choose a robot (list or tap on the map)";
   if (r && document.activeElement !== $("speed")) { $("speed").value = r.speed; $("speed-out").textContent = r.speed; }
 }

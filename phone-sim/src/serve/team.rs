@@ -233,8 +233,14 @@ impl Team {
     pub fn advance(&mut self, target: Option<u32>, more: impl Fn() -> bool) {
         match self {
             Team::Sim { sim, .. } => {
+                // Stop at the moment the team is done, so that the page
+                // sees the end at its true time even at full speed.
+                let over = sim.is_over();
                 while more() {
                     if target.is_some_and(|t| sim.now() >= t) || !sim.step() {
+                        break;
+                    }
+                    if !over && sim.is_over() {
                         break;
                     }
                 }

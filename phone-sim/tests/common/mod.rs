@@ -19,9 +19,14 @@ pub struct Server {
 impl Server {
     /// Starts `conquest serve --port 0 ARGS` and waits for its address.
     pub fn start(args: &[&str]) -> Server {
+        Server::start_on(0, args)
+    }
+
+    /// Starts `conquest serve --port PORT ARGS` and waits for its address.
+    pub fn start_on(port: u16, args: &[&str]) -> Server {
         let mut child = Command::new(env!("CARGO_BIN_EXE_conquest"))
             .arg("serve")
-            .args(["--port", "0"])
+            .args(["--port", &port.to_string()])
             .args(args)
             .stdout(Stdio::piped())
             .stderr(Stdio::inherit())
