@@ -58,8 +58,8 @@ mod app {
         link::{LinkIsr, LinkTx, RX_CAPACITY, RxReceiver, TxQueue},
     };
     use crate::robot::{
-        AgentInput, BodyCmd, FwAgent, LinkOut, MAP_BLOCKS, PLAN_CELLS, SensorImage, agent as
-        make_agent, robot_id, timing_for,
+        AgentInput, BodyCmd, FwAgent, LinkOut, MAP_BLOCKS, PLAN_CELLS, SensorImage,
+        agent as make_agent, robot_id, timing_for,
     };
     use core_algo::agent::firmware::{Effect, Effects, Glue};
     use core_algo::map::Block;
@@ -435,7 +435,9 @@ mod app {
             }
             // The agent's messages, as far as the window has room.
             loop {
-                let Some(out) = pending.take().or_else(|| cx.local.from_agent.try_recv().ok())
+                let Some(out) = pending
+                    .take()
+                    .or_else(|| cx.local.from_agent.try_recv().ok())
                 else {
                     break;
                 };
@@ -455,7 +457,10 @@ mod app {
             while !cx.local.link_to_agent.is_full() {
                 match link.poll_event() {
                     Some(LinkEvent::Received { message, .. }) => {
-                        let _ = cx.local.link_to_agent.try_send(AgentInput::Message(message));
+                        let _ = cx
+                            .local
+                            .link_to_agent
+                            .try_send(AgentInput::Message(message));
                     }
                     Some(LinkEvent::LinkUp) => defmt::info!("link: up"),
                     Some(LinkEvent::LinkLost) => defmt::warn!("link: lost"),

@@ -13,9 +13,9 @@ use super::Board;
 use crate::drivers::{config::ConfigStore, leds::Leds};
 use drivers_logic::ground::GroundReading;
 use drivers_logic::proximity::{ProxScan, SENSORS};
+use drivers_logic::selector::{cmdline_value, from_cmdline};
 use drivers_logic::stepper::{Side, VirtualWheel};
 use rtic_monotonics::systick::prelude::*;
-use drivers_logic::selector::{cmdline_value, from_cmdline};
 use stm32f4xx_hal::{
     gpio::PinState,
     pac,

@@ -44,12 +44,7 @@ pub struct LinkIsr<U: Instance> {
 
 impl<U: Instance> LinkIsr<U> {
     /// Takes the split serial port (receiver already listening) and the rings.
-    pub fn new(
-        rx: Rx<U>,
-        tx: Tx<U>,
-        rx_bytes: RxSender,
-        tx_bytes: Consumer<'static, u8>,
-    ) -> Self {
+    pub fn new(rx: Rx<U>, tx: Tx<U>, rx_bytes: RxSender, tx_bytes: Consumer<'static, u8>) -> Self {
         LinkIsr {
             rx,
             tx,
