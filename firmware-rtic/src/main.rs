@@ -106,15 +106,15 @@ mod app {
         /// Hands `report` (and any earlier one still waiting) to the agent
         /// without blocking; keeps what does not fit for the next call.
         fn report(&mut self, report: Option<AgentInput>) {
-            if let Some(r) = report {
-                if self.pending.replace(r).is_some() {
-                    defmt::warn!("agent queue full: report dropped");
-                }
+            if let Some(r) = report
+                && self.pending.replace(r).is_some()
+            {
+                defmt::warn!("agent queue full: report dropped");
             }
-            if let Some(p) = self.pending.take() {
-                if let Err(rtic_sync::channel::TrySendError::Full(p)) = self.to_agent.try_send(p) {
-                    self.pending = Some(p);
-                }
+            if let Some(p) = self.pending.take()
+                && let Err(rtic_sync::channel::TrySendError::Full(p)) = self.to_agent.try_send(p)
+            {
+                self.pending = Some(p);
             }
         }
     }
@@ -167,6 +167,14 @@ mod app {
     fn init(cx: init::Context) -> (Shared, Local) {
         let b = board::init(cx.device);
         Mono::start(cx.core.SYST, board::SYSCLK_HZ);
+        // The cycle counter times the control step on the robot (QEMU does
+        // not model the DWT; the emulated build measures with `bench=N`).
+        #[cfg(not(feature = "qemu"))]
+        {
+            let (mut dcb, mut dwt) = (cx.core.DCB, cx.core.DWT);
+            dcb.enable_trace();
+            dwt.enable_cycle_counter();
+        }
 
         // Enable reception before announcing readiness (QEMU drops bytes
         // that arrive earlier; the host waits for the link's first frame).
@@ -297,10 +305,22 @@ mod app {
     /// so there it only keeps the sensor image and the heartbeat).
     #[task(priority = 3, shared = [motors, prox], local = [ground, leds, config, mode, behaviour_io])]
     async fn control(mut cx: control::Context) {
+        #[cfg(feature = "qemu")]
+        if let Some(n) = board::bench_steps() {
+            let (ms, moving) = crate::robot::bench(n);
+            cortex_m_semihosting::hprintln!(
+                "bench: {} behaviour steps in {} ms of emulated time, still following the line: {}",
+                n,
+                ms,
+                moving
+            );
+            board::exit(true);
+        }
         let record = load_record(cx.local.config);
         let mut run = matches!(cx.local.mode, BootMode::Calibrate).then(CalibrationRun::new);
         let (black, white) = record.map_or(([0; 3], [0; 3]), |r| (r.black, r.white));
         let mut body = crate::robot::behaviour(black, white);
+        let mut worst: u32 = 0;
         let mut next = Mono::now();
         let mut cycle: u32 = 0;
         loop {
@@ -345,7 +365,13 @@ mod app {
                                 defmt::warn!("behaviour refused {}", defmt::Debug2Format(&cmd));
                             }
                         }
+                        let c0 = cortex_m::peripheral::DWT::cycle_count();
                         let (wheels, report) = body.step(&image.sensors());
+                        let cycles = cortex_m::peripheral::DWT::cycle_count().wrapping_sub(c0);
+                        worst = worst.max(cycles);
+                        if cycle.is_multiple_of(1000) {
+                            defmt::info!("behaviour step: {} cycles, worst {}", cycles, worst);
+                        }
                         io.report(report.map(AgentInput::Report));
                         (wheels.left, wheels.right)
                     }

@@ -132,3 +132,39 @@ impl SensorImage {
         }
     }
 }
+
+/// Runs the behaviour stack for `steps` control steps of line following
+/// (the common case: PID on the floor sensors, node detector watching,
+/// collision and abyss layers checking) and returns the milliseconds of
+/// emulated time they took, and whether the robot was still following the
+/// line at the end (so that every step did the full work). Under QEMU's `-icount shift=0` one instruction
+/// is one nanosecond, so this counts instructions per step; see
+/// docs/results/performance.md.
+#[cfg(feature = "qemu")]
+pub fn bench(steps: u32) -> (u32, bool) {
+    use core_algo::agent::body::Order;
+    let mut body = behaviour([300; 3], [900; 3]);
+    body.robot_mut().place_on_node(StepCount::default());
+    let _ = body.order(Order::Move);
+    let mut sensors = Sensors {
+        floor: [900, 300, 900],
+        proximity: [40; 8],
+        steps: StepCount::default(),
+    };
+    let t0 = crate::now_ms();
+    for i in 0..steps {
+        // Drifting a little left and right of the line, moving 6 steps per
+        // 10 ms (600 steps/s).
+        let drift = if i % 16 < 8 { 30 } else { 0 };
+        sensors.floor = [880 - drift, 300 + drift / 2, 860 + drift];
+        sensors.steps.left += 6;
+        sensors.steps.right += 6;
+        let (w, _) = body.step(core::hint::black_box(&sensors));
+        core::hint::black_box(w);
+    }
+    let ms = crate::now_ms().wrapping_sub(t0);
+    (
+        ms,
+        body.robot().mode() == core_algo::behaviour::Mode::Moving,
+    )
+}

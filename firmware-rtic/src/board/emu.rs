@@ -63,6 +63,14 @@ fn host_time() -> u32 {
     t as u32
 }
 
+/// `bench=N` on the command line: time N behaviour steps and exit (see
+/// [`crate::robot::bench`]).
+pub fn bench_steps() -> Option<u32> {
+    let mut text = [0u8; 256];
+    let len = cmdline(&mut text);
+    cmdline_value(text.get(..len).unwrap_or(&[]), b"bench")
+}
+
 /// Steppers without timers: the same `Stepper` logic, advanced by elapsed
 /// milliseconds of the monotonic clock whenever the motors are touched.
 pub struct Motors {
