@@ -161,8 +161,8 @@ mod app {
     #[init(local = [
         tx_queue: TxQueue = Queue::new(),
         body_queue: Queue<u8, 64> = Queue::new(),
-        blocks: [Block; MAP_BLOCKS] = [Block::EMPTY; MAP_BLOCKS],
-        cells: [PlanCell; PLAN_CELLS] = [PlanCell::EMPTY; PLAN_CELLS],
+        blocks: [Block; MAP_BLOCKS] = [Block::ZEROED; MAP_BLOCKS],
+        cells: [PlanCell; PLAN_CELLS] = [PlanCell::ZEROED; PLAN_CELLS],
     ])]
     fn init(cx: init::Context) -> (Shared, Local) {
         let b = board::init(cx.device);
