@@ -62,6 +62,17 @@ impl PlanCell {
         ring_b: 0,
     };
 
+    /// All bits zero: only a placeholder for `static` storage, which
+    /// [`DistField::new`] clears to [`PlanCell::EMPTY`]. A zero initialiser
+    /// puts the firmware's planner scratch in `.bss` instead of `.data`,
+    /// whose initial image would cost 16 KiB of flash.
+    pub const ZEROED: PlanCell = PlanCell {
+        base: 0,
+        off: [0; 4],
+        ring_a: 0,
+        ring_b: 0,
+    };
+
     fn dist(&self) -> Option<Ticks> {
         let d = self.base & DIST_MASK;
         (d != DIST_MASK).then_some(d)

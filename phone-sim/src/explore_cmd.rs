@@ -6,7 +6,9 @@
 
 use crate::bench::bound::lower_bounds;
 use crate::cli::{CliError, ReadArgs, demo_field, load};
+use crate::environment::Environment;
 use crate::field::{Field, ascii};
+use crate::sim::body::Bodies;
 use crate::sim::channel::ChannelFaults;
 use crate::sim::robot::BoxedStrategy;
 use crate::sim::{Faults, Outcome, SimConfig, Simulation};
@@ -65,6 +67,22 @@ pub struct ExploreArgs {
     /// How to read the field.
     #[command(flatten)]
     pub read: ReadArgs,
+    /// Run N robots as the real firmware emulated in QEMU, with simulated
+    /// bodies attached, instead of simulated firmware.
+    #[arg(long, value_name = "N")]
+    pub qemu: Option<usize>,
+    /// The firmware ELF built with `--features qemu` (default:
+    /// firmware-rtic/target/firmware-qemu.elf as firmware-rtic/ci.sh writes
+    /// it, else cargo's output path).
+    #[arg(long, value_name = "PATH")]
+    pub qemu_firmware: Option<PathBuf>,
+    /// Emulated robots drive this many times faster than real ones (the
+    /// report gives times at the real speed).
+    #[arg(long, default_value_t = 10)]
+    pub qemu_scale: u32,
+    /// Give up an emulated run after this many wall-clock seconds.
+    #[arg(long, default_value_t = 240)]
+    pub qemu_timeout: u32,
 }
 
 impl Default for ExploreArgs {
@@ -236,16 +254,10 @@ pub fn lower_bound_s(field: &Field, k: usize, timing: Timing) -> f64 {
     Timing::seconds(bound * u64::from(timing.edge))
 }
 
-/// The report of a finished run.
-pub fn report(
-    field: &Field,
-    a: &ExploreArgs,
-    sim: &Simulation,
-    o: &Outcome,
-    wall_s: f64,
-) -> Report {
+/// The report of a finished run whose bodies moved with `timing`.
+pub fn report(field: &Field, a: &ExploreArgs, timing: Timing, o: &Outcome, wall_s: f64) -> Report {
     let k = o.robots.len();
-    let lower_bound_s = lower_bound_s(field, k, sim.bodies().timing());
+    let lower_bound_s = lower_bound_s(field, k, timing);
     let makespan_s = f64::from(o.makespan_ms) / 1000.0;
     Report {
         field: field.name().to_string(),
@@ -288,17 +300,31 @@ pub fn run(a: &ExploreArgs) -> Result<(), CliError> {
         Some(p) => load(p, a.read)?,
         None => demo_field()?,
     };
+    if a.qemu.is_some() {
+        return crate::qemu::run(&field, a);
+    }
     let (sim, outcome, wall) = simulate(&field, a)?;
-    let r = report(&field, a, &sim, &outcome, wall);
+    let r = report(&field, a, sim.bodies().timing(), &outcome, wall);
+    finish(&field, a, sim.env(), sim.bodies(), &r)
+}
+
+/// Prints the report (or its JSON) and draws the map if asked: the end of
+/// every `explore` run, simulated or emulated.
+pub fn finish(
+    field: &Field,
+    a: &ExploreArgs,
+    env: &Environment,
+    bodies: &Bodies,
+    r: &Report,
+) -> Result<(), CliError> {
     if a.json {
-        let text = serde_json::to_string(&r).map_err(|e| CliError::Failed(e.to_string()))?;
+        let text = serde_json::to_string(r).map_err(|e| CliError::Failed(e.to_string()))?;
         println!("{text}");
     } else {
-        print_report(&sim, &r);
+        print_report(env, bodies, r);
     }
     if let Some(out) = &a.out {
-        let known: Vec<(Pos, core_algo::geometry::Arms)> = sim
-            .env()
+        let known: Vec<(Pos, core_algo::geometry::Arms)> = env
             .map()
             .visited()
             .filter_map(|(p, c)| c.arms().map(|a| (p, a)))
@@ -314,15 +340,13 @@ pub fn run(a: &ExploreArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-fn print_report(sim: &Simulation, r: &Report) {
-    let env = sim.env();
+fn print_report(env: &Environment, bodies: &Bodies, r: &Report) {
     let nodes: std::collections::BTreeMap<_, _> = env
         .map()
         .visited()
         .filter_map(|(p, c)| c.arms().map(|a| (p, a)))
         .collect();
-    let marks: Vec<(Pos, char)> = sim
-        .bodies()
+    let marks: Vec<(Pos, char)> = bodies
         .bodies()
         .iter()
         .map(|b| (b.pos, ascii::arrow(b.heading)))

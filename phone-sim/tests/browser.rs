@@ -47,17 +47,27 @@ fn screenshots_dir() -> PathBuf {
     dir
 }
 
-/// The text the element shows (it must be displayed).
+/// The text the element shows (it must be displayed). The page redraws
+/// ten times a second, so a read that races a redraw is tried again.
 async fn text(c: &Client, css: &str) -> String {
-    let e = c
-        .find(Locator::Css(css))
-        .await
-        .unwrap_or_else(|e| panic!("{css}: {e}"));
-    assert!(
-        e.is_displayed().await.unwrap_or(false),
-        "{css} is not on screen"
-    );
-    e.text().await.unwrap_or_else(|e| panic!("{css}: {e}"))
+    let mut last = String::new();
+    for _ in 0..10 {
+        let e = match c.find(Locator::Css(css)).await {
+            Ok(e) => e,
+            Err(e) => {
+                last = e.to_string();
+                tokio::time::sleep(Duration::from_millis(100)).await;
+                continue;
+            }
+        };
+        match (e.is_displayed().await, e.text().await) {
+            (Ok(true), Ok(t)) => return t,
+            (Ok(false), _) => last = format!("{css} is not on screen"),
+            (Err(err), _) | (_, Err(err)) => last = err.to_string(),
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    panic!("{css}: {last}");
 }
 
 /// Waits until the JavaScript `expr` is truthy in the page.
@@ -91,13 +101,20 @@ async fn shoot(c: &Client, name: &str) {
     std::fs::write(screenshots_dir().join(name), png).expect("write screenshot");
 }
 
+/// Clicks the element; tried again if a redraw replaced it in between.
 async fn click(c: &Client, css: &str) {
-    c.find(Locator::Css(css))
-        .await
-        .unwrap_or_else(|e| panic!("{css}: {e}"))
-        .click()
-        .await
-        .unwrap_or_else(|e| panic!("click {css}: {e}"));
+    let mut last = String::new();
+    for _ in 0..10 {
+        match c.find(Locator::Css(css)).await {
+            Ok(e) => match e.click().await {
+                Ok(_) => return,
+                Err(err) => last = err.to_string(),
+            },
+            Err(err) => last = err.to_string(),
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    panic!("click {css}: {last}");
 }
 
 #[test]
