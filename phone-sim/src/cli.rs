@@ -28,6 +28,9 @@ pub enum Command {
     Explore(crate::explore_cmd::ExploreArgs),
     /// Run the phone side for real robots on serial ports.
     Connect(crate::connect_cmd::ConnectArgs),
+    /// Serve the web UI (Map, Steer, Statistics) for a simulation or for
+    /// real robots.
+    Serve(crate::serve::ServeArgs),
     /// Check a field file (.field, .sim, .sep, .map) and summarise it.
     Validate(ValidateArgs),
     /// Convert a field between formats (chosen by extension).
@@ -206,6 +209,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         }
         Some(Command::Explore(a)) => crate::explore_cmd::run(&a),
         Some(Command::Connect(a)) => crate::connect_cmd::run(&a),
+        Some(Command::Serve(a)) => crate::serve::run(&a),
         Some(Command::Validate(a)) => {
             let f = load(&a.file, a.read)?;
             println!("{}: ok: {}", a.file.display(), summary(&f));

@@ -197,6 +197,14 @@ pub struct Report {
 
 /// Runs a simulation of `field` as the arguments say.
 pub fn simulate(field: &Field, a: &ExploreArgs) -> Result<(Simulation, Outcome, f64), CliError> {
+    let mut sim = build(field, a)?;
+    let t0 = std::time::Instant::now();
+    let outcome = sim.run();
+    Ok((sim, outcome, t0.elapsed().as_secs_f64()))
+}
+
+/// Sets up (without running) a simulation of `field` as the arguments say.
+pub fn build(field: &Field, a: &ExploreArgs) -> Result<Simulation, CliError> {
     let robots = a.robots.unwrap_or(field.starts().len());
     if crate::bench::strategy(&a.strategy).is_none() {
         return Err(CliError::BadInput(format!(
@@ -223,7 +231,7 @@ pub fn simulate(field: &Field, a: &ExploreArgs) -> Result<(Simulation, Outcome, 
         ..SimConfig::default()
     };
     let name = a.strategy.clone();
-    let mut sim = Simulation::new(
+    Simulation::new(
         field,
         robots,
         |_| {
@@ -234,19 +242,22 @@ pub fn simulate(field: &Field, a: &ExploreArgs) -> Result<(Simulation, Outcome, 
         },
         config,
     )
-    .map_err(|e| CliError::BadInput(e.to_string()))?;
-    let t0 = std::time::Instant::now();
-    let outcome = sim.run();
-    Ok((sim, outcome, t0.elapsed().as_secs_f64()))
+    .map_err(|e| CliError::BadInput(e.to_string()))
+}
+
+/// The lower bound of the makespan with return home (edge time only) for
+/// the first `k` start poses of `field` at `timing`, seconds.
+pub fn lower_bound_s(field: &Field, k: usize, timing: Timing) -> f64 {
+    let starts: Vec<Pos> = field.starts().iter().take(k).map(|s| s.pos).collect();
+    let truth = Truth::new(field.nodes().iter().map(|(p, a)| (*p, *a)));
+    let bound = lower_bounds(&truth, &starts, k).with_return;
+    Timing::seconds(bound * u64::from(timing.edge))
 }
 
 /// The report of a finished run whose bodies moved with `timing`.
 pub fn report(field: &Field, a: &ExploreArgs, timing: Timing, o: &Outcome, wall_s: f64) -> Report {
     let k = o.robots.len();
-    let starts: Vec<Pos> = field.starts().iter().take(k).map(|s| s.pos).collect();
-    let truth = Truth::new(field.nodes().iter().map(|(p, a)| (*p, *a)));
-    let bound = lower_bounds(&truth, &starts, k).with_return;
-    let lower_bound_s = Timing::seconds(bound * u64::from(timing.edge));
+    let lower_bound_s = lower_bound_s(field, k, timing);
     let makespan_s = f64::from(o.makespan_ms) / 1000.0;
     Report {
         field: field.name().to_string(),

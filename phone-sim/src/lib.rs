@@ -19,5 +19,6 @@ pub mod proxy;
 pub mod qemu;
 pub mod render;
 pub mod sensor_world;
+pub mod serve;
 pub mod sim;
 pub mod world;

@@ -18,6 +18,9 @@ pub enum Order {
     /// Turn once around on the spot and classify the node (the initial
     /// scan of the start node).
     Scan,
+    /// Drive at this many motor steps per second from the next move on (a
+    /// person's speed control); takes effect at once, never queued.
+    SetSpeed(u16),
 }
 
 /// What a body's sensors report when an action ends.
@@ -68,7 +71,7 @@ pub enum BodyMsg {
 }
 
 /// The longest encoded [`BodyMsg`], newline included.
-pub const BODY_MSG_LEN: usize = 3;
+pub const BODY_MSG_LEN: usize = 6;
 
 const HEX: &[u8; 16] = b"0123456789ABCDEF";
 
@@ -92,25 +95,48 @@ fn heading_letter(h: Heading) -> u8 {
 impl BodyMsg {
     /// The line for this message; the first `len` bytes of the array.
     pub fn encode(self) -> ([u8; BODY_MSG_LEN], usize) {
-        let (a, b) = match self {
-            BodyMsg::Hello => (b'H', None),
-            BodyMsg::KeepAlive => (b'K', None),
-            BodyMsg::Quit => (b'Q', None),
-            BodyMsg::Order(Order::Move) => (b'M', None),
-            BodyMsg::Order(Order::Scan) => (b'S', None),
-            BodyMsg::Order(Order::Turn(t)) => (b'T', Some(turn_letter(t))),
-            BodyMsg::Report(Report::NodeHit { relative }) => {
-                (b'N', HEX.get(usize::from(relative.bits() & 0xF)).copied())
+        let mut line = [0u8; BODY_MSG_LEN];
+        let mut n = 0;
+        let mut put = |b: u8| {
+            if let Some(slot) = line.get_mut(n) {
+                *slot = b;
+                n += 1;
             }
-            BodyMsg::Report(Report::Collision) => (b'C', None),
-            BodyMsg::Report(Report::Abyss) => (b'A', None),
-            BodyMsg::Report(Report::Refused) => (b'X', None),
-            BodyMsg::Report(Report::Bumped { toward }) => (b'B', Some(heading_letter(toward))),
         };
-        match b {
-            Some(b) => ([a, b, b'\n'], 3),
-            None => ([a, b'\n', 0], 2),
+        match self {
+            BodyMsg::Hello => put(b'H'),
+            BodyMsg::KeepAlive => put(b'K'),
+            BodyMsg::Quit => put(b'Q'),
+            BodyMsg::Order(Order::Move) => put(b'M'),
+            BodyMsg::Order(Order::Scan) => put(b'S'),
+            BodyMsg::Order(Order::Turn(t)) => {
+                put(b'T');
+                put(turn_letter(t));
+            }
+            BodyMsg::Order(Order::SetSpeed(s)) => {
+                // Four decimal digits: "V0600".
+                put(b'V');
+                let s = s.min(9999);
+                for k in [1000, 100, 10, 1] {
+                    put(b'0' + ((s / k) % 10) as u8);
+                }
+            }
+            BodyMsg::Report(Report::NodeHit { relative }) => {
+                put(b'N');
+                if let Some(&h) = HEX.get(usize::from(relative.bits() & 0xF)) {
+                    put(h);
+                }
+            }
+            BodyMsg::Report(Report::Collision) => put(b'C'),
+            BodyMsg::Report(Report::Abyss) => put(b'A'),
+            BodyMsg::Report(Report::Refused) => put(b'X'),
+            BodyMsg::Report(Report::Bumped { toward }) => {
+                put(b'B');
+                put(heading_letter(toward));
+            }
         }
+        put(b'\n');
+        (line, n)
     }
 
     /// Parses one line without its newline; `None` for anything else.
@@ -121,6 +147,16 @@ impl BodyMsg {
             [b'Q'] => BodyMsg::Quit,
             [b'M'] => BodyMsg::Order(Order::Move),
             [b'S'] => BodyMsg::Order(Order::Scan),
+            [b'V', digits @ ..] if digits.len() == 4 => {
+                let mut s = 0u16;
+                for &d in digits {
+                    if !d.is_ascii_digit() {
+                        return None;
+                    }
+                    s = s * 10 + u16::from(d - b'0');
+                }
+                BodyMsg::Order(Order::SetSpeed(s))
+            }
             [b'T', t] => BodyMsg::Order(Order::Turn(match t {
                 b'R' => Turn::Right,
                 b'L' => Turn::Left,
@@ -248,6 +284,7 @@ impl BehaviourBody {
             Order::Turn(t) => Behave::Turn(t),
             Order::Move => Behave::Move,
             Order::Scan => Behave::Scan,
+            Order::SetSpeed(s) => Behave::SetSpeed(s.min(1000) as i16),
         };
         let r = self.robot.order(command);
         if r.is_err() {
@@ -308,8 +345,10 @@ mod tests {
     use crate::control::StepCount;
     use crate::control::calibration::Calibration;
 
-    fn all_messages() -> [BodyMsg; 15] {
+    fn all_messages() -> [BodyMsg; 17] {
         [
+            BodyMsg::Order(Order::SetSpeed(600)),
+            BodyMsg::Order(Order::SetSpeed(9999)),
             BodyMsg::Hello,
             BodyMsg::KeepAlive,
             BodyMsg::Quit,

@@ -97,6 +97,11 @@ impl Glue {
             self.push(out, Effect::Datagram(s));
             return;
         }
+        if let Message::SetSpeed { steps_per_s } = *message {
+            // The motors' business, not the agent's.
+            self.push(out, Effect::Body(Order::SetSpeed(steps_per_s)));
+            return;
+        }
         if let Some(event) = agent_event(message) {
             self.feed(agent, now, event, out);
         }

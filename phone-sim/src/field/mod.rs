@@ -211,7 +211,14 @@ pub fn load(path: &Path) -> Result<Field, FieldError> {
 pub fn load_with(path: &Path, options: LoadOptions) -> Result<Field, FieldError> {
     let file = path.display().to_string();
     let bytes = std::fs::read(path).map_err(|e| FieldError::io(&file, &e))?;
-    let text = std::str::from_utf8(&bytes).map_err(|e| {
+    parse_bytes(&bytes, &file, options)
+}
+
+/// Reads a field from the bytes of a file named `file` (an upload, say),
+/// choosing the format by the name's extension, as [`load`] does.
+pub fn parse_bytes(bytes: &[u8], file: &str, options: LoadOptions) -> Result<Field, FieldError> {
+    let path = Path::new(file);
+    let text = std::str::from_utf8(bytes).map_err(|e| {
         let line = bytes[..e.valid_up_to()]
             .iter()
             .filter(|b| **b == b'\n')
@@ -224,7 +231,7 @@ pub fn load_with(path: &Path, options: LoadOptions) -> Result<Field, FieldError>
                 .map_or(0, |i| i + 1)
             + 1;
         FieldError::at(
-            &file,
+            file,
             line,
             column,
             "expected UTF-8 text, found a byte that is not",
@@ -235,12 +242,12 @@ pub fn load_with(path: &Path, options: LoadOptions) -> Result<Field, FieldError>
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
     match extension(path).as_str() {
-        "field" => native::parse(text, &file),
-        "sim" => sim::parse_sim(text, &file, &stem),
-        "sep" => sim::parse_sep(text, &file, &stem),
-        "map" => movingai::parse(text, &file, &stem, options.map_reading),
+        "field" => native::parse(text, file),
+        "sim" => sim::parse_sim(text, file, &stem),
+        "sep" => sim::parse_sep(text, file, &stem),
+        "map" => movingai::parse(text, file, &stem, options.map_reading),
         other => Err(FieldError::whole(
-            &file,
+            file,
             format!("unknown field format '.{other}': expected .field, .sim, .sep or .map"),
         )),
     }
@@ -250,18 +257,22 @@ pub fn load_with(path: &Path, options: LoadOptions) -> Result<Field, FieldError>
 /// `.sim`, `.sep`).
 pub fn save(field: &Field, path: &Path) -> Result<(), FieldError> {
     let file = path.display().to_string();
-    let text = match extension(path).as_str() {
-        "field" => native::write(field),
-        "sim" => sim::write_sim(field).map_err(|m| FieldError::whole(&file, m))?,
-        "sep" => sim::write_sep(field).map_err(|m| FieldError::whole(&file, m))?,
-        other => {
-            return Err(FieldError::whole(
-                &file,
-                format!("cannot write format '.{other}': expected .field, .sim or .sep"),
-            ));
-        }
-    };
+    let text = to_text(field, &file)?;
     std::fs::write(path, text).map_err(|e| FieldError::io(&file, &e))
+}
+
+/// The text of `field` in the format the extension of `file` names
+/// (`.field`, `.sim`, `.sep`): what [`save`] writes, for a download.
+pub fn to_text(field: &Field, file: &str) -> Result<String, FieldError> {
+    match extension(Path::new(file)).as_str() {
+        "field" => Ok(native::write(field)),
+        "sim" => sim::write_sim(field).map_err(|m| FieldError::whole(file, m)),
+        "sep" => sim::write_sep(field).map_err(|m| FieldError::whole(file, m)),
+        other => Err(FieldError::whole(
+            file,
+            format!("cannot write format '.{other}': expected .field, .sim or .sep"),
+        )),
+    }
 }
 
 fn extension(path: &Path) -> String {

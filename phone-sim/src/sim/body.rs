@@ -74,6 +74,8 @@ pub struct Body {
     /// Counters.
     pub stats: BodyStats,
     visited: std::collections::HashSet<Pos>,
+    /// Its own timing when a person set its speed apart from the team's.
+    own_timing: Option<Timing>,
 }
 
 impl Body {
@@ -125,6 +127,7 @@ fn from_heading(a: Pos, b: Pos) -> Option<Heading> {
 pub struct Bodies {
     truth: BTreeMap<Pos, Arms>,
     timing: Timing,
+    spacing_mm: u32,
     bodies: Vec<Body>,
 }
 
@@ -142,13 +145,22 @@ impl Bodies {
                 stalled_until: 0,
                 stats: BodyStats::default(),
                 visited: [pos].into_iter().collect(),
+                own_timing: None,
             })
             .collect();
         Bodies {
             truth,
             timing,
+            spacing_mm: core_algo::timing::DEFAULT_NODE_SPACING_MM,
             bodies,
         }
+    }
+
+    /// The same bodies on a field whose nodes are `spacing_mm` apart (what
+    /// a speed order needs to compute its timing).
+    pub fn with_spacing_mm(mut self, spacing_mm: u32) -> Self {
+        self.spacing_mm = spacing_mm;
+        self
     }
 
     /// The bodies, indexed by robot id.
@@ -164,6 +176,22 @@ impl Bodies {
     /// Changes the timing (a new speed) for actions that start from now on.
     pub fn set_timing(&mut self, timing: Timing) {
         self.timing = timing;
+    }
+
+    /// Gives robot `id` its own timing (a person set its speed) for actions
+    /// that start from now on; `None` returns it to the team's.
+    pub fn set_robot_timing(&mut self, id: RobotId, timing: Option<Timing>) {
+        if let Some(b) = self.bodies.get_mut(id.index()) {
+            b.own_timing = timing;
+        }
+    }
+
+    /// The timing robot `i` moves with.
+    fn timing_of(&self, i: usize) -> Timing {
+        self.bodies
+            .get(i)
+            .and_then(|b| b.own_timing)
+            .unwrap_or(self.timing)
     }
 
     /// The true arms of `p`.
@@ -199,6 +227,13 @@ impl Bodies {
             return;
         };
         if !b.alive {
+            return;
+        }
+        if let Order::SetSpeed(steps) = order {
+            b.own_timing = Some(Timing::from_hardware(
+                self.spacing_mm,
+                u32::from(steps).clamp(1, 2000),
+            ));
             return;
         }
         b.queue.push_back(order);
@@ -278,7 +313,7 @@ impl Bodies {
                 if let (Some((j, true)), Some(toward)) = (blocker, from_heading(to, from)) {
                     reports.push((RobotId(j as u8), Report::Bumped { toward }));
                 }
-                let edge = self.edge_ms();
+                let edge = self.edge_ms(i);
                 if let Some(b) = self.bodies.get_mut(i) {
                     if blocked {
                         b.heading = b.heading.opposite();
@@ -316,13 +351,13 @@ impl Bodies {
         self.start_next(i, t, reports);
     }
 
-    fn edge_ms(&self) -> u32 {
-        self.timing.edge * TICK_MS
+    fn edge_ms(&self, i: usize) -> u32 {
+        self.timing_of(i).edge * TICK_MS
     }
 
     fn start_next(&mut self, i: usize, now: u32, reports: &mut Vec<(RobotId, Report)>) {
-        let edge = self.edge_ms();
-        let quarter = self.timing.quarter_turn * TICK_MS;
+        let edge = self.edge_ms(i);
+        let quarter = self.timing_of(i).quarter_turn * TICK_MS;
         let Some(b) = self.bodies.get(i) else { return };
         if b.action != Action::Idle || !b.alive || b.stalled_until > now {
             return;
@@ -342,6 +377,8 @@ impl Bodies {
                     };
                 }
             }
+            // Never queued (see `order`).
+            Order::SetSpeed(_) => {}
             Order::Scan => {
                 if let Some(b) = self.bodies.get_mut(i) {
                     b.stats.quarter_turns += 4;

@@ -118,6 +118,7 @@ pub struct Simulation {
     phone: PhoneSide,
     paused: bool,
     done_at: Option<u32>,
+    linger: bool,
 }
 
 /// The map window every participant uses: the field's bounding box with a
@@ -185,7 +186,8 @@ impl Simulation {
         Ok(Simulation {
             now: 0,
             next_tick: 0,
-            bodies: Bodies::new(field.nodes().clone(), timing, &starts),
+            bodies: Bodies::new(field.nodes().clone(), timing, &starts)
+                .with_spacing_mm(u32::from(field.spacing_mm())),
             firmware,
             proxies,
             phone: PhoneSide::new(
@@ -195,6 +197,7 @@ impl Simulation {
             ),
             paused: false,
             done_at: None,
+            linger: false,
             field: field.clone(),
             config,
         })
@@ -249,6 +252,22 @@ impl Simulation {
         true
     }
 
+    /// Keeps the world going after the team is done, so that a person
+    /// can still steer robots (the web UI); the outcome keeps the time the
+    /// team was first done.
+    pub fn set_linger(&mut self, linger: bool) {
+        self.linger = linger;
+    }
+
+    /// Cuts robot `id`'s link both ways from now for `for_ms` (a fault a
+    /// person injects while watching).
+    pub fn cut_link(&mut self, id: RobotId, for_ms: u32) {
+        self.config
+            .faults
+            .cut
+            .push((id, self.now, for_ms.min(u32::MAX - self.now)));
+    }
+
     /// Whether the run is over: the team finished, everyone died, or time
     /// ran out.
     pub fn is_over(&self) -> bool {
@@ -265,7 +284,7 @@ impl Simulation {
 
     /// Advances to the next event; returns `false` once the run is over.
     pub fn step(&mut self) -> bool {
-        if self.is_over() {
+        if self.is_over() && !self.linger {
             return false;
         }
         if self.paused {
@@ -375,11 +394,18 @@ impl Simulation {
                 self.bodies.stall(id, at + dur);
             }
         }
+        // A robot's link is cut while any of its cuts lasts.
+        let mut cut: Vec<Option<bool>> = vec![None; self.proxies.len()];
         for &(id, at, dur) in &self.config.faults.cut {
-            let cut = now >= at && now < at + dur;
-            if let Some(p) = self.proxies.get_mut(id.index()) {
-                p.up.set_cut(cut);
-                p.down.set_cut(cut);
+            if let Some(c) = cut.get_mut(id.index()) {
+                let active = now >= at && now - at < dur;
+                *c = Some(c.unwrap_or(false) || active);
+            }
+        }
+        for (p, c) in self.proxies.iter_mut().zip(cut) {
+            if let Some(c) = c {
+                p.up.set_cut(c);
+                p.down.set_cut(c);
             }
         }
     }
