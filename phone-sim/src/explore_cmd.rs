@@ -12,6 +12,7 @@ use crate::sim::robot::BoxedStrategy;
 use crate::sim::{Faults, Outcome, SimConfig, Simulation};
 use crate::world::Truth;
 use core_algo::geometry::Pos;
+use core_algo::protocol::message::LocalizeMethod;
 use core_algo::team::RobotId;
 use core_algo::timing::Timing;
 use serde::Serialize;
@@ -56,6 +57,11 @@ pub struct ExploreArgs {
     /// Line speed in motor steps per second (e-puck: up to about 1000).
     #[arg(long, default_value_t = core_algo::timing::DEFAULT_SPEED_STEPS_PER_S)]
     pub speed: u32,
+    /// How the robots learn their start poses: `known` (the phone tells
+    /// them, the 2010 way), `local` (they localize from adjacent starts,
+    /// seed §4.2) or `global` (from any starts, seed §4.3).
+    #[arg(long, default_value = "known", value_parser = parse_localize)]
+    pub localize: Localize,
     /// Print one JSON object instead of the report.
     #[arg(long)]
     pub json: bool,
@@ -76,6 +82,43 @@ impl Default for ExploreArgs {
             args: ExploreArgs,
         }
         <Wrap as clap::Parser>::parse_from(["explore"]).args
+    }
+}
+
+/// How a run's robots learn their start poses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Localize {
+    /// The phone tells them.
+    Known,
+    /// They localize by this method.
+    By(LocalizeMethod),
+}
+
+impl Localize {
+    /// The method, `None` for known poses.
+    pub fn method(self) -> Option<LocalizeMethod> {
+        match self {
+            Localize::Known => None,
+            Localize::By(m) => Some(m),
+        }
+    }
+
+    /// The command line's word for it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Localize::Known => "known",
+            Localize::By(LocalizeMethod::Local) => "local",
+            Localize::By(LocalizeMethod::Global) => "global",
+        }
+    }
+}
+
+fn parse_localize(s: &str) -> Result<Localize, String> {
+    match s {
+        "known" => Ok(Localize::Known),
+        "local" => Ok(Localize::By(LocalizeMethod::Local)),
+        "global" => Ok(Localize::By(LocalizeMethod::Global)),
+        _ => Err(format!("expected known, local or global, found '{s}'")),
     }
 }
 
@@ -171,6 +214,18 @@ pub struct Report {
     pub retransmissions: u64,
     /// Conflicting reports.
     pub conflicts: u64,
+    /// How the robots learned their poses: known, local or global.
+    pub localize: String,
+    /// Until the last robot joined the team frame, seconds (`null`: poses
+    /// were known, or localization did not finish).
+    pub localize_s: Option<f64>,
+    /// Every robot's pose relative to robot 0 right (`null`: poses were
+    /// known).
+    pub poses_correct: Option<bool>,
+    /// Why localization gave up, if it did.
+    pub localize_failure: Option<String>,
+    /// Moves the team made while localizing.
+    pub localize_moves: Option<u32>,
     /// Wall time of the simulation, seconds.
     pub wall_s: f64,
     /// Per robot.
@@ -202,6 +257,7 @@ pub fn simulate(field: &Field, a: &ExploreArgs) -> Result<(Simulation, Outcome, 
             cut: Vec::new(),
         },
         speed: a.speed.clamp(1, 2000),
+        localize: a.localize.method(),
         ..SimConfig::default()
     };
     let name = a.strategy.clone();
@@ -254,6 +310,19 @@ pub fn report(
         frames_lost: o.frames_lost,
         retransmissions: o.retransmissions,
         conflicts: o.conflicts,
+        localize: a.localize.name().to_string(),
+        localize_s: o
+            .localization
+            .as_ref()
+            .and_then(|l| l.localized_ms)
+            .map(|ms| f64::from(ms) / 1000.0),
+        poses_correct: o.localization.as_ref().map(|l| l.poses_correct),
+        localize_failure: o
+            .localization
+            .as_ref()
+            .and_then(|l| l.failure)
+            .map(|f| format!("{f:?}")),
+        localize_moves: o.localization.as_ref().map(|l| l.moves),
         wall_s,
         per_robot: o
             .robots
@@ -293,10 +362,19 @@ pub fn run(a: &ExploreArgs) -> Result<(), CliError> {
             .visited()
             .filter_map(|(p, c)| c.arms().map(|a| (p, a)))
             .collect();
+        let to_team = sim.true_to_team();
         let map_field = Field::new(
             format!("{} (explored)", field.name()),
             known.into_iter().collect(),
-            field.starts().iter().take(r.robots).copied().collect(),
+            field
+                .starts()
+                .iter()
+                .take(r.robots)
+                .map(|s| crate::field::StartPose {
+                    pos: to_team.pos(s.pos),
+                    heading: to_team.heading(s.heading),
+                })
+                .collect(),
         )
         .map_err(|e| CliError::Failed(format!("explored map: {e}")))?;
         crate::render::render(&map_field, out).map_err(CliError::Failed)?;
@@ -311,11 +389,12 @@ fn print_report(sim: &Simulation, r: &Report) {
         .visited()
         .filter_map(|(p, c)| c.arms().map(|a| (p, a)))
         .collect();
+    let to_team = sim.true_to_team();
     let marks: Vec<(Pos, char)> = sim
         .bodies()
         .bodies()
         .iter()
-        .map(|b| (b.pos, ascii::arrow(b.heading)))
+        .map(|b| (to_team.pos(b.pos), ascii::arrow(to_team.heading(b.heading))))
         .collect();
     println!(
         "explored map of {} ({} robots, strategy {}, seed {}):",
@@ -327,6 +406,20 @@ fn print_report(sim: &Simulation, r: &Report) {
         "complete: {} (map correct: {}, all home: {})",
         r.complete, r.map_correct, r.all_home
     );
+    if let Some(correct) = r.poses_correct {
+        let took = r
+            .localize_s
+            .map_or_else(|| "did not finish".to_string(), |s| format!("{s:.1} s"));
+        println!(
+            "localization {}: {took}, {} moves, poses correct: {correct}{}",
+            r.localize,
+            r.localize_moves.unwrap_or(0),
+            r.localize_failure
+                .as_ref()
+                .map(|f| format!(" (gave up: {f})"))
+                .unwrap_or_default()
+        );
+    }
     println!(
         "makespan {:.1} s, lower bound {:.1} s, ratio {:.2}; simulated in {:.3} s",
         r.makespan_s, r.lower_bound_s, r.ratio, r.wall_s

@@ -47,10 +47,12 @@ pub enum Report {
     /// No line ahead; stayed.
     Abyss,
     /// Standing on a node, its proximity sensors saw another robot come
-    /// close from `toward` and turn back (the passive side of a collision).
+    /// close and turn back (the passive side of a collision).
     Bumped {
-        /// Where the other robot came from, global frame.
-        toward: Heading,
+        /// Where the other robot came from, relative to the body like the
+        /// proximity ring sees it: north ahead, east to the right. Only the
+        /// robot's own agent knows how that lies in its frame.
+        side: Heading,
     },
 }
 
@@ -303,10 +305,12 @@ impl Bodies {
                     .iter()
                     .enumerate()
                     .find(|(j, o)| *j != i && o.occupied() == Some(to))
-                    .map(|(j, o)| (j, o.alive && o.is_idle()));
+                    .map(|(j, o)| (j, o.alive && o.is_idle(), o.heading));
                 let blocked = blocker.is_some();
-                if let (Some((j, true)), Some(toward)) = (blocker, from_heading(to, from)) {
-                    reports.push((RobotId(j as u8), Report::Bumped { toward }));
+                if let (Some((j, true, facing)), Some(toward)) = (blocker, from_heading(to, from))
+                {
+                    let side = Heading::from_index(toward.index() + 4 - facing.index());
+                    reports.push((RobotId(j as u8), Report::Bumped { side }));
                 }
                 let edge = self.edge_ms();
                 if let Some(b) = self.bodies.get_mut(i) {

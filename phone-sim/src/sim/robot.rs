@@ -151,7 +151,14 @@ impl SimFirmware {
                 });
                 AgentEvent::Collision
             }
-            Report::Bumped { toward } => AgentEvent::Bumped { toward },
+            Report::Bumped { side } => {
+                // The proximity ring sees relative to the body; the agent
+                // thinks in its frame.
+                let (_, facing) = self.agent.pose();
+                AgentEvent::Bumped {
+                    toward: Heading::from_index(facing.index() + side.index()),
+                }
+            }
             Report::Abyss => {
                 self.queue(Message::Abyss { floor: 0b111 });
                 AgentEvent::Rejected
@@ -223,7 +230,10 @@ impl SimFirmware {
         let Ok(commands) = self.agent.handle(now, event) else {
             return;
         };
-        if matches!(event, AgentEvent::Start { .. }) {
+        if matches!(
+            event,
+            AgentEvent::Start { .. } | AgentEvent::StartLocalize { .. }
+        ) {
             // The initial scan classifies the start node (seed §2.5).
             orders.push(Order::Scan);
         }
@@ -233,6 +243,10 @@ impl SimFirmware {
                 Command::Move => orders.push(Order::Move),
                 Command::Report { pos, arms, heading } => self.queue(node_hit(pos, heading, arms)),
                 Command::Announce { target } => self.queue(Message::Intent { target }),
+                Command::Localize(news) => self.queue(Message::Relayed {
+                    origin: self.id,
+                    broadcast: Broadcast::Localize(news),
+                }),
                 Command::Finished => {
                     self.finished = true;
                     let s = self.status(now);
@@ -281,7 +295,11 @@ pub fn agent_event(message: &Message) -> Option<AgentEvent> {
             ),
             Broadcast::Intent { target } => AgentEvent::Peer(origin, PeerNews::Intent { target }),
             Broadcast::Failure { .. } => AgentEvent::Peer(origin, PeerNews::Failed),
-            Broadcast::Localize(_) => return None,
+            Broadcast::Localize(news) => AgentEvent::Peer(origin, PeerNews::Localize(news)),
+        },
+        Message::StartLocalize { method, settings } => AgentEvent::StartLocalize {
+            method,
+            team: settings.team_size,
         },
         Message::Manual { on } => AgentEvent::Manual(if on {
             ManualOrder::Take
