@@ -125,7 +125,11 @@ where
         }
         let here = turn(self.localizer.here());
         let nodes = [
-            (self.home, turn(self.localizer.home_arms()), frame.heading(Heading::North)),
+            (
+                self.home,
+                turn(self.localizer.home_arms()),
+                frame.heading(Heading::North),
+            ),
             (self.pos, here, self.heading),
         ];
         for (i, (pos, arms, heading)) in nodes.into_iter().enumerate() {

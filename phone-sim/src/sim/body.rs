@@ -307,8 +307,7 @@ impl Bodies {
                     .find(|(j, o)| *j != i && o.occupied() == Some(to))
                     .map(|(j, o)| (j, o.alive && o.is_idle(), o.heading));
                 let blocked = blocker.is_some();
-                if let (Some((j, true, facing)), Some(toward)) = (blocker, from_heading(to, from))
-                {
+                if let (Some((j, true, facing)), Some(toward)) = (blocker, from_heading(to, from)) {
                     let side = Heading::from_index(toward.index() + 4 - facing.index());
                     reports.push((RobotId(j as u8), Report::Bumped { side }));
                 }

@@ -300,7 +300,8 @@ impl Simulation {
     fn team_done(&self) -> bool {
         let robots = || self.firmware.iter().zip(self.bodies.bodies());
         robots().all(|(f, b)| f.is_dead() || (f.finished() && b.is_idle()))
-            || robots().all(|(f, b)| f.is_dead() || (f.agent().mode() == Mode::Error && b.is_idle()))
+            || robots()
+                .all(|(f, b)| f.is_dead() || (f.agent().mode() == Mode::Error && b.is_idle()))
     }
 
     /// Notes when each robot joined the team frame.
