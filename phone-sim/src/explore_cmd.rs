@@ -62,6 +62,11 @@ pub struct ExploreArgs {
     /// seed §4.2) or `global` (from any starts, seed §4.3).
     #[arg(long, default_value = "known", value_parser = parse_localize)]
     pub localize: Localize,
+    /// Replace the field's start poses by random distinct nodes and
+    /// headings drawn from this seed (one per robot): arbitrary starts for
+    /// `--localize global`.
+    #[arg(long)]
+    pub random_starts: Option<u64>,
     /// Print one JSON object instead of the report.
     #[arg(long)]
     pub json: bool,
@@ -346,6 +351,15 @@ pub fn run(a: &ExploreArgs) -> Result<(), CliError> {
     let field = match &a.field {
         Some(p) => load(p, a.read)?,
         None => demo_field()?,
+    };
+    let field = match a.random_starts {
+        None => field,
+        Some(seed) => {
+            let k = a.robots.unwrap_or(field.starts().len());
+            let starts = crate::sim::localize::random_starts(&field, k, seed);
+            Field::new(field.name(), field.nodes().clone(), starts)
+                .map_err(|e| CliError::BadInput(format!("random starts: {e}")))?
+        }
     };
     let (sim, outcome, wall) = simulate(&field, a)?;
     let r = report(&field, a, &sim, &outcome, wall);

@@ -52,7 +52,7 @@ where
                     Motion::Driving { .. } => self
                         .localizer
                         .on_node(arms, &mut steps)
-                        .map_err(|()| AgentError::Unexpected)?,
+                        .map_err(|_| AgentError::Unexpected)?,
                     _ => return Err(AgentError::Unexpected),
                 }
                 self.motion = Motion::Standing;
@@ -60,13 +60,13 @@ where
             Event::Collision => {
                 self.localizer
                     .on_collision(&mut steps)
-                    .map_err(|()| AgentError::Unexpected)?;
+                    .map_err(|_| AgentError::Unexpected)?;
                 self.motion = Motion::Standing;
             }
             Event::Bumped { toward } => self
                 .localizer
                 .on_bumped(toward, &mut steps)
-                .map_err(|()| AgentError::Unexpected)?,
+                .map_err(|_| AgentError::Unexpected)?,
             Event::Rejected => {
                 self.localizer.on_refused();
                 self.motion = Motion::Standing;

@@ -30,7 +30,9 @@
 //!
 //! `docs/localization.md` gives the termination argument.
 
+mod border;
 mod frame;
+mod turns;
 mod walk;
 
 #[cfg(test)]
@@ -65,6 +67,11 @@ pub enum Step {
     /// Tell the team (relayed to everyone else).
     Say(Localize),
 }
+
+/// An input that does not fit the state (a node reached while no move was
+/// under way, a bump while nobody should move): refused, nothing changed.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub struct Unexpected;
 
 /// Why localization gave up.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -275,9 +282,9 @@ impl Localizer {
 
     /// The robot arrived on the next node, whose arms are `arms` (own
     /// frame). `Err` when no move was under way.
-    pub fn on_node(&mut self, arms: Arms, out: &mut Steps) -> Result<(), ()> {
+    pub fn on_node(&mut self, arms: Arms, out: &mut Steps) -> Result<(), Unexpected> {
         if self.driving.take().is_none() {
-            return Err(());
+            return Err(Unexpected);
         }
         self.here = arms;
         self.arrival = self.heading;
@@ -322,9 +329,9 @@ impl Localizer {
     /// The robot touched another robot and is back on the node it left,
     /// facing back. It reports its half of the contact and waits for the
     /// partner's. `Err` when no move was under way.
-    pub fn on_collision(&mut self, out: &mut Steps) -> Result<(), ()> {
+    pub fn on_collision(&mut self, out: &mut Steps) -> Result<(), Unexpected> {
         let Some(from) = self.driving.take() else {
-            return Err(());
+            return Err(Unexpected);
         };
         self.attempted = self.heading;
         self.pos = from;
@@ -343,15 +350,15 @@ impl Localizer {
     /// Standing, the robot saw another robot come from `toward` (own
     /// frame) and turn back: it is the passive partner of the robot whose
     /// turn it is, and reports. `Err` when nobody should be moving.
-    pub fn on_bumped(&mut self, toward: Heading, out: &mut Steps) -> Result<(), ()> {
+    pub fn on_bumped(&mut self, toward: Heading, out: &mut Steps) -> Result<(), Unexpected> {
         let Some(by) = self.holder_now().filter(|h| *h != self.me) else {
-            return Err(());
+            return Err(Unexpected);
         };
         if self.driving.is_some() {
-            return Err(());
+            return Err(Unexpected);
         }
         let Some(pos) = self.pos.step(toward) else {
-            return Err(());
+            return Err(Unexpected);
         };
         let seen = Pose {
             pos,
@@ -466,57 +473,6 @@ impl Localizer {
         }
     }
 
-    fn on_pass(&mut self, from: RobotId, pose: Pose) {
-        if let Some(r) = self.rest.get_mut(from.index()) {
-            *r = pose;
-        }
-        match self.phase {
-            Phase::Gather | Phase::Runs | Phase::Border => {
-                if let Some(p) = self.passed.get_mut(from.index()) {
-                    *p = true;
-                }
-            }
-            Phase::Circle if self.holder == Some(from) => {
-                if let Some(partner) = self.turn_met.take() {
-                    // The partner goes on (seed §4.3).
-                    self.fruitless = 0;
-                    self.holder = Some(partner);
-                } else {
-                    self.fruitless = self.fruitless.saturating_add(1);
-                    self.holder = Some(self.next_group(from));
-                }
-            }
-            Phase::Circle | Phase::Over => {}
-        }
-    }
-
-    /// The lowest id of the group after `id`'s, in cyclic id order of the
-    /// groups' lowest ids.
-    fn next_group(&self, id: RobotId) -> RobotId {
-        let mine = self.frames.root(id).0;
-        let roots = (0..self.team).filter(|&i| self.frames.root(RobotId(i)).0 == i);
-        let next = roots
-            .clone()
-            .find(|&r| r > mine)
-            .or_else(|| roots.clone().next())
-            .unwrap_or(mine);
-        RobotId(next)
-    }
-
-    /// Whose turn it is, by the shared rules.
-    fn holder_now(&self) -> Option<RobotId> {
-        let placed = |i: u8| self.frames.root(RobotId(i)).0 == 0;
-        let waiting = |i: u8| !self.passed.get(usize::from(i)).copied().unwrap_or(true);
-        match self.phase {
-            Phase::Runs => (0..self.team)
-                .find(|&i| placed(i) && waiting(i))
-                .map(RobotId),
-            Phase::Border => (0..self.team).find(|&i| waiting(i)).map(RobotId),
-            Phase::Circle => self.holder,
-            Phase::Gather | Phase::Over => None,
-        }
-    }
-
     /// Moves the shared state on and, when it is this robot's turn,
     /// begins it.
     fn advance(&mut self, out: &mut Steps) {
@@ -608,97 +564,6 @@ impl Localizer {
             }
             None => self.pass(out),
         }
-    }
-
-    /// The arms of this node not known to lead to a robot.
-    fn open(&self) -> Arms {
-        let mut open = self.here;
-        for h in Heading::ALL {
-            if self
-                .pos
-                .step(h)
-                .is_some_and(|q| self.blocked.iter().any(|b| *b == q))
-            {
-                open = open.without(h);
-            }
-        }
-        open
-    }
-
-    fn block(&mut self, node: Option<Pos>) {
-        if let Some(q) = node
-            && !self.blocked.contains(&q)
-        {
-            // Full only with more contacts than robots, which a static
-            // team cannot produce; the walk then just tries again.
-            let _ = self.blocked.push(q);
-        }
-    }
-
-    /// Global: drive north while there is a line; then trace.
-    fn climb(&mut self, out: &mut Steps) {
-        self.task = Task::Climb;
-        if self.open().has(Heading::North) {
-            self.go(Heading::North, out);
-        } else {
-            self.begin_trace(out);
-        }
-    }
-
-    /// Global: trace the face north of this node, as if arriving heading
-    /// east (north then lies on the left).
-    fn begin_trace(&mut self, out: &mut Steps) {
-        self.arrival = Heading::East;
-        match left_first(Heading::East, self.open()) {
-            Some((d, _)) => {
-                self.task = Task::Trace(Trace::new(self.pos, d));
-                self.go(d, out);
-            }
-            // A node without (free) arms is all of its component.
-            None => self.found(None, out),
-        }
-    }
-
-    /// Global: the trace's decision on the node it stands on.
-    fn trace_step(&mut self, mut t: Trace, out: &mut Steps) {
-        let Some((d, turn)) = left_first(self.arrival, self.open()) else {
-            // Robots stand on every neighbour: this node is all of its
-            // component, and its border.
-            self.found(None, out);
-            return;
-        };
-        if t.closes(self.pos, d) {
-            let sum = t.sum.saturating_add(i16::from(turn));
-            if sum < 0 {
-                // −4: the outer border. Stay here, ready to circle.
-                self.found(Some(d), out);
-            } else if self.pos == t.top {
-                self.climb(out);
-            } else {
-                // +4: an inner face; round it to its topmost node.
-                self.task = Task::ToTop { top: t.top };
-                self.go(d, out);
-            }
-            return;
-        }
-        t.sum = t.sum.saturating_add(i16::from(turn));
-        t.pending = turn;
-        self.task = Task::Trace(t);
-        self.go(d, out);
-    }
-
-    /// Global: one more node along the face.
-    fn walk_on(&mut self, out: &mut Steps) {
-        match left_first(self.arrival, self.open()) {
-            Some((d, _)) => self.go(d, out),
-            None => self.fail(Failure::Refused),
-        }
-    }
-
-    fn found(&mut self, first: Option<Heading>, out: &mut Steps) {
-        self.walk_next = first;
-        self.blocked.clear();
-        self.pass(out);
     }
 
     fn pass(&mut self, out: &mut Steps) {

@@ -65,3 +65,21 @@ pub fn starts_adjacent(field: &Field, starts: &[StartPose]) -> bool {
     }
     seen.len() == set.len()
 }
+
+/// `k` distinct start nodes of `field` with random headings, drawn from
+/// `seed`: the arbitrary starts global localization is for.
+pub fn random_starts(field: &Field, k: usize, seed: u64) -> Vec<StartPose> {
+    use rand::seq::SliceRandom;
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let mut nodes: Vec<Pos> = field.nodes().keys().copied().collect();
+    nodes.shuffle(&mut rng);
+    nodes
+        .into_iter()
+        .take(k)
+        .map(|pos| StartPose {
+            pos,
+            heading: Heading::from_index(rng.random_range(0..4u8)),
+        })
+        .collect()
+}
