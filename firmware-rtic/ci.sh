@@ -8,10 +8,14 @@
 # 3. prints the size report and fails over budget (flash 128 KiB, static
 #    RAM 48 KiB);
 # 4. runs the host unit tests (drivers-logic, host-tests) and the QEMU
-#    boot-and-talk end-to-end test, under a timeout.
+#    end-to-end tests, under a timeout;
+# 5. runs a complete exploration by two emulated robots (the real firmware
+#    in QEMU, simulated bodies attached by `conquest explore --qemu 2`) and
+#    fails unless the report says complete.
 #
 # Environment: CARGO_BUILD_JOBS (default 2), CARGO_TARGET_DIR (default
-# ./target), FIRMWARE_CI_TIMEOUT (seconds for the test step, default 300).
+# ./target), FIRMWARE_CI_TIMEOUT (seconds for the test step, default 300),
+# FIRMWARE_EXPLORE_TIMEOUT (seconds for the emulated exploration, default 300).
 # The ELFs end up in $CARGO_TARGET_DIR/firmware-{epuck2,qemu}.elf.
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -85,6 +89,23 @@ passed=$(grep -o '[0-9]* passed' "$log" | awk '{s += $1} END {print s + 0}')
 failed=$(grep -o '[0-9]* failed' "$log" | awk '{s += $1} END {print s + 0}')
 rm -f "$log"
 
+step "emulated exploration: conquest explore --qemu 2 (real firmware in QEMU, simulated bodies)"
+elf="$(realpath "$tdir/firmware-qemu.elf")"
+# The debug build: `cargo test --workspace` in .ci/run has built it already.
+(cd .. && cargo build -q -j "$jobs" -p phone-sim --bin conquest)
+explore_log=$(mktemp)
+if (cd .. && timeout "${FIRMWARE_EXPLORE_TIMEOUT:-300}" \
+  cargo run -q -j "$jobs" -p phone-sim --bin conquest -- \
+  explore fields/small/open-6x6.field --qemu 2 --qemu-firmware "$elf" --json) | tee "$explore_log" \
+  && grep -q '"complete":true' "$explore_log"; then
+  passed=$((passed + 1))
+else
+  echo "firmware-rtic: the emulated exploration did not complete" >&2
+  failed=$((failed + 1))
+fi
+rm -f "$explore_log"
+
 step "done"
 # Plain summary line for CI's test counter.
 echo "firmware: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]

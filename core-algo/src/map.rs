@@ -130,6 +130,20 @@ impl Block {
         cells: [NodeCell::EMPTY; BLOCK_NODES],
         frontier: 0,
     };
+
+    /// All bits zero: only a placeholder for `static` storage, which
+    /// [`KnownMap::new`] clears to [`Block::EMPTY`]. A zero initialiser puts
+    /// the firmware's map in `.bss` instead of `.data`, whose initial image
+    /// would cost as much flash as the map's RAM.
+    pub const ZEROED: Block = Block {
+        cells: [NodeCell {
+            flags: 0,
+            visits: 0,
+            first_visitor: 0,
+            counts: 0,
+        }; BLOCK_NODES],
+        frontier: 0,
+    };
 }
 
 impl Default for Block {

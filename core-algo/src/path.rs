@@ -62,6 +62,17 @@ impl PlanCell {
         ring_b: 0,
     };
 
+    /// All bits zero: only a placeholder for `static` storage, which
+    /// [`DistField::new`] clears to [`PlanCell::EMPTY`]. A zero initialiser
+    /// puts the firmware's planner scratch in `.bss` instead of `.data`,
+    /// whose initial image would cost 16 KiB of flash.
+    pub const ZEROED: PlanCell = PlanCell {
+        base: 0,
+        off: [0; 4],
+        ring_a: 0,
+        ring_b: 0,
+    };
+
     fn dist(&self) -> Option<Ticks> {
         let d = self.base & DIST_MASK;
         (d != DIST_MASK).then_some(d)
@@ -125,11 +136,27 @@ pub enum Flow {
     Stop,
 }
 
-/// The scratch cells a window of `area` nodes needs: the area, but at least
-/// 64 so that the queues of tiny windows (whose wavefront is a large share
-/// of the window) cannot overflow.
+/// Windows up to this many nodes get scratch enough that the planner's
+/// queues can never overflow (see [`min_cells`]).
+pub const SMALL_WINDOW: usize = 128;
+
+/// The scratch cells a window of `area` nodes needs.
+///
+/// Each of the two FIFO rings holds one entry per scratch cell. Over a
+/// whole search the edge ring receives at most one entry per (node,
+/// heading) state and the turn ring at most two per settled state, so
+/// 8 × area cells can never overflow. Small windows get that: their
+/// wavefront can be most of the window (cheap edges, dear turns). Larger
+/// windows get one cell per node, which holds a wavefront of `area` states,
+/// far more than a search at the robots' timing keeps in flight; should it
+/// ever fill, the search says [`PlanError::QueueFull`] rather than answer
+/// wrongly.
 pub const fn min_cells(area: usize) -> usize {
-    if area < 64 { 64 } else { area }
+    if area <= SMALL_WINDOW {
+        8 * if area < 8 { 8 } else { area }
+    } else {
+        area
+    }
 }
 
 /// The storage index of the neighbour of node `i` towards `h` within

@@ -6,15 +6,15 @@
 //! | task | prio | kind | what |
 //! |---|---|---|---|
 //! | `left_step`, `right_step` | 6 | TIM4 / TIM3 interrupt | one half-step per timer update |
-//! | `usart3` | 5 | USART3 interrupt | byte rings of the link |
+//! | `usart3` (+ `usart2` emulated) | 5 | USART interrupt | byte rings of the link (and of the body channel) |
 //! | `sample` | 4 | 1 kHz | proximity schedule (ADC + emitters) |
 //! | `control` | 3 | 100 Hz | ground read, sensor image, behaviour stack or calibration, motor command |
-//! | `link` | 2 | on bytes | frames in, replies out (bootstrap protocol until core-algo's link layer) |
-//! | `agent` | 1 | on events | decisions at nodes, owns the map |
+//! | `link` (+ `body` emulated) | 2 | on bytes / 10 ms | core-algo's reliable link layer (the emulated board's body channel) |
+//! | `agent` | 1 | on input / 50 ms | core-algo's agent and glue: decisions at nodes, owns the map |
 //!
 //! Selector 0 at power-on runs the ground-sensor calibration; any other
-//! position runs. The `qemu` feature swaps the board for QEMU's
-//! netduinoplus2 (see `board`).
+//! position N runs as robot N − 1. The `qemu` feature swaps the board for
+//! QEMU's netduinoplus2 (see `board`).
 #![no_std]
 #![no_main]
 #![deny(unsafe_code)]
@@ -32,8 +32,22 @@ use rtic_monotonics::systick::prelude::*;
 
 systick_monotonic!(Mono, 1_000);
 
-/// Events queued from the control task to the agent (node reached, ...).
-const AGENT_QUEUE: usize = 4;
+/// Inputs queued for the agent (messages and body reports).
+const AGENT_QUEUE: usize = 8;
+/// Messages queued from the agent to the link.
+const LINK_QUEUE: usize = 8;
+/// Orders queued from the agent to the body.
+const BODY_QUEUE: usize = 8;
+/// Period of the link layer's timers.
+const LINK_TICK_MS: u32 = 10;
+/// Period of the agent's timers (timeouts, back-offs, keep-alives).
+const AGENT_TICK_MS: u32 = 50;
+
+/// Milliseconds since boot on the monotonic clock (wraps after 49 days;
+/// core-algo compares times by wrapping difference).
+fn now_ms() -> u32 {
+    Mono::now().duration_since_epoch().as_millis()
+}
 
 #[rtic::app(device = stm32f4xx_hal::pac, peripherals = true, dispatchers = [SPI2, SPI3, UART4, UART5])]
 mod app {
@@ -43,13 +57,18 @@ mod app {
         leds::Leds,
         link::{LinkIsr, LinkTx, RX_CAPACITY, RxReceiver, TxQueue},
     };
-    use crate::robot::{Agent, AgentEvent, Behaviour, MAP_BOUNDS, Map, MotorCommand, SensorImage};
-    use core_algo::team::RobotId;
+    use crate::robot::{
+        AgentInput, BodyCmd, FwAgent, LinkOut, MAP_BLOCKS, PLAN_CELLS, SensorImage,
+        agent as make_agent, robot_id, timing_for,
+    };
+    use core_algo::agent::firmware::{Effect, Effects, Glue};
+    use core_algo::map::Block;
+    use core_algo::path::PlanCell;
+    use core_algo::protocol::link::Event as LinkEvent;
+    use core_algo::protocol::{Link, LinkConfig, MAX_FRAME_LEN, Message};
     use drivers_logic::{
         calibration::{CalibrationRun, Output},
         config::CalibrationRecord,
-        frame::{FrameDecoder, FrameEvent, ParseError, Reply, Request, Status},
-        ground::GroundCalibration,
         leds::arms_mask,
         selector::BootMode,
     };
@@ -58,87 +77,187 @@ mod app {
         channel::{Receiver, Sender},
         make_channel,
     };
+    use stm32f4xx_hal::pac::{Interrupt, USART3};
     use stm32f4xx_hal::serial::RxListen;
+
+    #[cfg(feature = "qemu")]
+    use core_algo::agent::body::{BodyDecoder, BodyMsg};
+    // Not behind `cfg`: RTIC's generated code names the types of the
+    // emulated board's resources in both builds.
+    use stm32f4xx_hal::pac::USART2;
+
+    /// The emulated body channel's receive ring (bytes).
+    const BODY_RX: usize = RX_CAPACITY;
+    /// The host must say something on the body channel this often, or the
+    /// emulated robot ends QEMU (no emulator outlives its host).
+    #[cfg(feature = "qemu")]
+    const HOST_SILENCE_MS: u32 = 10_000;
+
+    /// Where the agent's orders go and the body's reports come from: the
+    /// control task's behaviour stack, or the emulated board's body channel.
+    pub struct BodyIo {
+        cmds: Receiver<'static, BodyCmd, BODY_QUEUE>,
+        to_agent: Sender<'static, AgentInput, AGENT_QUEUE>,
+        /// A report the agent's queue had no room for yet.
+        pending: Option<AgentInput>,
+    }
+
+    impl BodyIo {
+        /// Hands `report` (and any earlier one still waiting) to the agent
+        /// without blocking; keeps what does not fit for the next call.
+        fn report(&mut self, report: Option<AgentInput>) {
+            if let Some(r) = report
+                && self.pending.replace(r).is_some()
+            {
+                defmt::warn!("agent queue full: report dropped");
+            }
+            if let Some(p) = self.pending.take()
+                && let Err(rtic_sync::channel::TrySendError::Full(p)) = self.to_agent.try_send(p)
+            {
+                self.pending = Some(p);
+            }
+        }
+    }
 
     #[shared]
     struct Shared {
-        /// Both steppers: written by control and link, stepped by the timer interrupts.
+        /// Both steppers: written by control, stepped by the timer interrupts.
         motors: board::Motors,
         /// Latest proximity values, from `sample`.
         prox: [u16; 8],
-        /// Latest sensor image, from `control`.
-        image: SensorImage,
-        /// The behaviour stack (the link sets manual speeds in it).
-        behaviour: Behaviour,
-        /// The robot's known map (1024 nodes).
-        map: Map,
     }
 
     #[local]
     struct Local {
-        link_isr: LinkIsr,
+        link_isr: LinkIsr<USART3>,
         link_tx: LinkTx,
         rx_bytes: RxReceiver,
+        link: Link,
         prox_drv: board::Proximity,
         ground: board::Ground,
         leds: Leds,
         config: ConfigStore,
         mode: BootMode,
-        selector: u8,
-        to_agent: Sender<'static, AgentEvent, AGENT_QUEUE>,
-        from_control: Receiver<'static, AgentEvent, AGENT_QUEUE>,
-        robot: RobotId,
+        agent: FwAgent,
+        glue: Glue,
+        agent_in: Receiver<'static, AgentInput, AGENT_QUEUE>,
+        link_to_agent: Sender<'static, AgentInput, AGENT_QUEUE>,
+        to_link: Sender<'static, LinkOut, LINK_QUEUE>,
+        from_agent: Receiver<'static, LinkOut, LINK_QUEUE>,
+        to_body: Sender<'static, BodyCmd, BODY_QUEUE>,
+        /// The behaviour stack's end of the body queues (real board only).
+        behaviour_io: Option<BodyIo>,
+        /// The emulated body channel's end of the body queues.
+        #[cfg(feature = "qemu")]
+        body_io: BodyIo,
+        #[cfg(feature = "qemu")]
+        body_isr: LinkIsr<USART2>,
+        #[cfg(feature = "qemu")]
+        body_tx: LinkTx,
+        #[cfg(feature = "qemu")]
+        body_rx: Receiver<'static, u8, BODY_RX>,
     }
 
-    #[init(local = [tx_queue: TxQueue = Queue::new()])]
+    #[init(local = [
+        tx_queue: TxQueue = Queue::new(),
+        body_queue: Queue<u8, 64> = Queue::new(),
+        blocks: [Block; MAP_BLOCKS] = [Block::ZEROED; MAP_BLOCKS],
+        cells: [PlanCell; PLAN_CELLS] = [PlanCell::ZEROED; PLAN_CELLS],
+    ])]
     fn init(cx: init::Context) -> (Shared, Local) {
         let b = board::init(cx.device);
         Mono::start(cx.core.SYST, board::SYSCLK_HZ);
+        // The cycle counter times the control step on the robot (QEMU does
+        // not model the DWT; the emulated build measures with `bench=N`).
+        #[cfg(not(feature = "qemu"))]
+        {
+            let (mut dcb, mut dwt) = (cx.core.DCB, cx.core.DWT);
+            dcb.enable_trace();
+            dwt.enable_cycle_counter();
+        }
 
         // Enable reception before announcing readiness (QEMU drops bytes
-        // that arrive earlier; the host waits for HELLO).
+        // that arrive earlier; the host waits for the link's first frame).
         let (tx, mut rx) = b.serial.split();
         rx.listen();
         let (rx_sender, rx_bytes) = make_channel!(u8, RX_CAPACITY);
         let (tx_prod, tx_cons) = cx.local.tx_queue.split();
-        let (to_agent, from_control) = make_channel!(AgentEvent, AGENT_QUEUE);
+        let (link_to_agent, agent_in) = make_channel!(AgentInput, AGENT_QUEUE);
+        let (to_link, from_agent) = make_channel!(LinkOut, LINK_QUEUE);
+        let (to_body, body_cmds) = make_channel!(BodyCmd, BODY_QUEUE);
+        let io = BodyIo {
+            cmds: body_cmds,
+            to_agent: link_to_agent.clone(),
+            pending: None,
+        };
+        #[cfg(feature = "qemu")]
+        let (behaviour_io, body_io) = (None, io);
+        #[cfg(not(feature = "qemu"))]
+        let behaviour_io = Some(io);
 
-        let map = Map::with_bounds(MAP_BOUNDS)
-            .unwrap_or_else(|_| defmt::panic!("map bounds exceed 1024 nodes"));
         let mode = BootMode::from_selector(b.selector);
+        let id = robot_id(b.selector);
         defmt::info!(
-            "boot: selector {}, mode {}, emulated {}",
+            "boot: selector {}, mode {}, robot {}, emulated {}",
             b.selector,
             mode,
+            id.0,
             board::EMULATED
         );
+
+        #[cfg(feature = "qemu")]
+        let (body_isr, body_tx, body_rx) = {
+            let (tx, mut rx) = b.body_serial.split();
+            rx.listen();
+            let (sender, receiver) = make_channel!(u8, BODY_RX);
+            let (prod, cons) = cx.local.body_queue.split();
+            (
+                LinkIsr::new(rx, tx, sender, cons),
+                LinkTx::new(prod, Interrupt::USART2),
+                receiver,
+            )
+        };
+        #[cfg(not(feature = "qemu"))]
+        let _ = &cx.local.body_queue;
 
         sample::spawn().ok();
         control::spawn().ok();
         link::spawn().ok();
         agent::spawn().ok();
+        #[cfg(feature = "qemu")]
+        body::spawn().ok();
 
         (
             Shared {
                 motors: b.motors,
                 prox: [0; 8],
-                image: SensorImage::default(),
-                behaviour: Behaviour::default(),
-                map,
             },
             Local {
                 link_isr: LinkIsr::new(rx, tx, rx_sender, tx_cons),
-                link_tx: LinkTx::new(tx_prod),
+                link_tx: LinkTx::new(tx_prod, Interrupt::USART3),
                 rx_bytes,
+                link: Link::new(LinkConfig::default(), id, b.nonce),
                 prox_drv: b.prox,
                 ground: b.ground,
                 leds: b.leds,
                 config: b.config,
                 mode,
-                selector: b.selector,
-                to_agent,
-                from_control,
-                robot: RobotId(b.selector),
+                agent: make_agent(id, cx.local.blocks, cx.local.cells),
+                glue: Glue::new(id),
+                agent_in,
+                link_to_agent,
+                to_link,
+                from_agent,
+                to_body,
+                behaviour_io,
+                #[cfg(feature = "qemu")]
+                body_io,
+                #[cfg(feature = "qemu")]
+                body_isr,
+                #[cfg(feature = "qemu")]
+                body_tx,
+                #[cfg(feature = "qemu")]
+                body_rx,
             },
         )
     }
@@ -161,6 +280,13 @@ mod app {
         cx.local.link_isr.on_interrupt();
     }
 
+    /// Body channel byte rings (emulated board).
+    #[cfg(feature = "qemu")]
+    #[task(binds = USART2, priority = 5, local = [body_isr])]
+    fn usart2(cx: usart2::Context) {
+        cx.local.body_isr.on_interrupt();
+    }
+
     /// Proximity sampling, one schedule phase per millisecond.
     #[task(priority = 4, shared = [prox], local = [prox_drv])]
     async fn sample(mut cx: sample::Context) {
@@ -174,56 +300,87 @@ mod app {
         }
     }
 
-    /// The 100 Hz control step.
-    #[task(priority = 3, shared = [motors, prox, image, behaviour], local = [ground, leds, config, mode, to_agent])]
+    /// The 100 Hz control step: the behaviour stack carries out the agent's
+    /// orders and reports back (the emulated board's body is on the host,
+    /// so there it only keeps the sensor image and the heartbeat).
+    #[task(priority = 3, shared = [motors, prox], local = [ground, leds, config, mode, behaviour_io])]
     async fn control(mut cx: control::Context) {
-        let mut calibration = load_calibration(cx.local.config);
+        #[cfg(feature = "qemu")]
+        if let Some(n) = board::bench_steps() {
+            let (ms, moving) = crate::robot::bench(n);
+            cortex_m_semihosting::hprintln!(
+                "bench: {} behaviour steps in {} ms of emulated time, still following the line: {}",
+                n,
+                ms,
+                moving
+            );
+            board::exit(true);
+        }
+        let record = load_record(cx.local.config);
         let mut run = matches!(cx.local.mode, BootMode::Calibrate).then(CalibrationRun::new);
+        let (black, white) = record.map_or(([0; 3], [0; 3]), |r| (r.black, r.white));
+        let mut body = crate::robot::behaviour(black, white);
+        let mut worst: u32 = 0;
         let mut next = Mono::now();
         let mut cycle: u32 = 0;
         loop {
             let reading = cx.local.ground.read();
-            let raw = reading.map(|r| r.delta).unwrap_or_default();
             let image = SensorImage {
-                ground_raw: raw,
-                ground: calibration.apply(raw),
+                ground_raw: reading.map(|r| r.delta).unwrap_or_default(),
                 ground_ok: reading.is_some(),
                 prox: cx.shared.prox.lock(|p| *p),
                 steps: cx.shared.motors.lock(|m| m.steps()),
             };
-            cx.shared.image.lock(|i| *i = image);
-
-            let command = match run.as_mut() {
-                Some(c) => match c.step(raw, (image.steps.0 + image.steps.1) / 2) {
-                    Output::Drive(left, right) => MotorCommand { left, right },
+            let (left, right) = match run.as_mut() {
+                Some(c) => match c.step(image.ground_raw, (image.steps.0 + image.steps.1) / 2) {
+                    Output::Drive(left, right) => (left, right),
                     Output::Store(record) => {
-                        if let Some(c) =
-                            store_calibration(&mut cx.shared.motors, cx.local.config, &record)
-                        {
-                            calibration = c;
+                        if store_calibration(&mut cx.shared.motors, cx.local.config, &record) {
+                            body = crate::robot::behaviour(record.black, record.white);
                             cx.local.leds.set_ring(arms_mask(true, true, true, true));
                         }
                         run = None;
-                        MotorCommand::default()
+                        (0, 0)
                     }
                     Output::Failed(e) => {
                         defmt::error!("calibration refused: {}", e);
                         cx.local.leds.set_front(true);
                         run = None;
-                        MotorCommand::default()
+                        (0, 0)
                     }
                 },
-                None => {
-                    let (command, event) = cx.shared.behaviour.lock(|b| b.step(&image));
-                    if let Some(e) = event {
-                        cx.local.to_agent.try_send(e).ok();
+                None => match cx.local.behaviour_io.as_mut() {
+                    Some(io) => {
+                        while let Ok(cmd) = io.cmds.try_recv() {
+                            let refused = match cmd {
+                                BodyCmd::Order(o) => body.order(o).is_err(),
+                                BodyCmd::Speed(v) => {
+                                    let v = i16::try_from(v.min(1000)).unwrap_or(1000).max(1);
+                                    body.robot_mut()
+                                        .order(core_algo::behaviour::Command::SetSpeed(v))
+                                        .is_err()
+                                }
+                            };
+                            if refused {
+                                defmt::warn!("behaviour refused {}", defmt::Debug2Format(&cmd));
+                            }
+                        }
+                        let c0 = cortex_m::peripheral::DWT::cycle_count();
+                        let (wheels, report) = body.step(&image.sensors());
+                        let cycles = cortex_m::peripheral::DWT::cycle_count().wrapping_sub(c0);
+                        worst = worst.max(cycles);
+                        if cycle.is_multiple_of(1000) {
+                            defmt::info!("behaviour step: {} cycles, worst {}", cycles, worst);
+                        }
+                        io.report(report.map(AgentInput::Report));
+                        (wheels.left, wheels.right)
                     }
-                    command
-                }
+                    // The emulated board: the host's simulated body carries
+                    // out the orders (`body` task).
+                    None => (0, 0),
+                },
             };
-            cx.shared
-                .motors
-                .lock(|m| m.set_speeds(command.left, command.right));
+            cx.shared.motors.lock(|m| m.set_speeds(left, right));
 
             // Heartbeat: body LED toggles every 500 ms.
             cx.local.leds.set_body((cycle / 50).is_multiple_of(2));
@@ -233,15 +390,13 @@ mod app {
         }
     }
 
-    /// The stored ground calibration, or the identity map without one.
-    fn load_calibration(config: &ConfigStore) -> GroundCalibration {
+    /// The stored ground calibration record, if there is a valid one.
+    fn load_record(config: &ConfigStore) -> Option<CalibrationRecord> {
         match config.load() {
-            Ok(r) => {
-                GroundCalibration::new(r.black, r.white).unwrap_or(GroundCalibration::IDENTITY)
-            }
+            Ok(r) => Some(r),
             Err(e) => {
-                defmt::warn!("no calibration record ({}), using identity", e);
-                GroundCalibration::IDENTITY
+                defmt::warn!("no calibration record ({}): floor orders refused", e);
+                None
             }
         }
     }
@@ -252,7 +407,7 @@ mod app {
         motors: &mut impl rtic::Mutex<T = board::Motors>,
         config: &mut ConfigStore,
         record: &CalibrationRecord,
-    ) -> Option<GroundCalibration> {
+    ) -> bool {
         let proof = motors.lock(|m| {
             m.set_speeds(0, 0);
             MotorsStopped::checked(m.is_stopped())
@@ -260,111 +415,199 @@ mod app {
         match proof.map(|p| config.store(record, p)) {
             Some(Ok(())) => {
                 defmt::info!("calibration stored: {}", record);
-                GroundCalibration::new(record.black, record.white).ok()
+                true
             }
             Some(Err(e)) => {
                 defmt::error!("calibration not stored: {}", e);
-                None
+                false
             }
             None => {
                 defmt::error!("calibration not stored: motors still running");
-                None
+                false
             }
         }
     }
 
-    /// The link: announce readiness, then answer frames.
-    ///
-    /// PLUG-IN(link): replace `FrameDecoder`/`Request`/`Reply` with
-    /// core-algo's protocol and reliable link state machine; keep the rings.
-    #[task(priority = 2, shared = [motors, image, behaviour, map], local = [link_tx, rx_bytes, selector, decoder: FrameDecoder = FrameDecoder::new()])]
-    async fn link(mut cx: link::Context) {
-        let selector = *cx.local.selector;
-        let mode = if board::EMULATED {
-            2
-        } else if selector == 0 {
-            0
-        } else {
-            1
-        };
-        send(
-            cx.local.link_tx,
-            Reply::Hello {
-                robot: selector,
-                mode,
-            },
-        );
-        while let Ok(byte) = cx.local.rx_bytes.recv().await {
-            let reply = match cx.local.decoder.push(byte) {
-                None => continue,
-                Some(FrameEvent::Dropped) => Reply::Error(ParseError::BadFrame),
-                Some(FrameEvent::Frame(n)) => match Request::parse(cx.local.decoder.payload(n)) {
-                    Err(e) => Reply::Error(e),
-                    Ok(Request::Ping(seq)) => Reply::Pong(seq),
-                    Ok(Request::Status) => {
-                        let image = cx.shared.image.lock(|i| *i);
-                        let steps = cx.shared.motors.lock(|m| m.steps());
-                        let visited = cx.shared.map.lock(|m| m.visited_len()) as u16;
-                        Reply::Status(Status {
-                            selector,
-                            left_steps: steps.0,
-                            right_steps: steps.1,
-                            visited,
-                            capacity: MAP_BOUNDS.area() as u16,
-                            ground_centre: image.ground[1],
-                        })
+    /// The link layer: core-algo's reliable link over the USART3 rings.
+    /// Received messages go to the agent, the agent's messages to the
+    /// phone; the timers run every 10 ms. The link's first frame (a Sync)
+    /// announces readiness.
+    #[task(priority = 2, local = [link, link_tx, rx_bytes, link_to_agent, from_agent])]
+    async fn link(cx: link::Context) {
+        let link = cx.local.link;
+        let mut pending: Option<LinkOut> = None;
+        let mut frame = [0u8; MAX_FRAME_LEN];
+        let mut next = Mono::now();
+        loop {
+            if let Ok(received) = Mono::timeout_at(next, cx.local.rx_bytes.recv()).await {
+                let Ok(byte) = received else {
+                    defmt::error!("link: receive ring closed");
+                    return;
+                };
+                let now = now_ms();
+                link.on_bytes(now, &[byte]);
+                while let Ok(b) = cx.local.rx_bytes.try_recv() {
+                    link.on_bytes(now, &[b]);
+                }
+            }
+            let now = now_ms();
+            if Mono::now() >= next {
+                link.tick(now);
+                next += LINK_TICK_MS.millis();
+                if Mono::now() > next {
+                    // Fell behind (a long interrupt burst): skip, no catch-up.
+                    next = Mono::now() + LINK_TICK_MS.millis();
+                }
+            }
+            // The agent's messages, as far as the window has room.
+            loop {
+                let Some(out) = pending
+                    .take()
+                    .or_else(|| cx.local.from_agent.try_recv().ok())
+                else {
+                    break;
+                };
+                match out {
+                    LinkOut::Reliable(m) if link.can_send() => {
+                        let _ = link.send(m);
                     }
-                    Ok(Request::Speed(left, right)) => {
-                        let applied = cx.shared.motors.lock(|m| m.set_speeds(left, right));
-                        cx.shared.behaviour.lock(|b| {
-                            b.manual = MotorCommand {
-                                left: applied.0,
-                                right: applied.1,
-                            }
-                        });
-                        Reply::Speed(applied.0, applied.1)
+                    LinkOut::Reliable(m) => {
+                        pending = Some(LinkOut::Reliable(m));
+                        break;
                     }
-                    Ok(Request::Visit { x, y, arms }) => {
-                        let mut agent = Agent {
-                            robot: RobotId(selector),
-                        };
-                        let (ok, visited) = cx.shared.map.lock(|m| {
-                            let ok = agent.on_event(m, AgentEvent::Node { x, y, arms });
-                            (ok, m.visited_len())
-                        });
-                        Reply::Visited(ok, visited as u16)
+                    LinkOut::Datagram(m) => link.send_datagram(m),
+                }
+            }
+            // Received messages, as far as the agent's queue has room (the
+            // link holds the rest and acknowledges them later).
+            while !cx.local.link_to_agent.is_full() {
+                match link.poll_event() {
+                    Some(LinkEvent::Received { message, .. }) => {
+                        let _ = cx
+                            .local
+                            .link_to_agent
+                            .try_send(AgentInput::Message(message));
                     }
-                    Ok(Request::Quit) if board::EMULATED => {
-                        send(cx.local.link_tx, Reply::Bye);
-                        while !cx.local.link_tx.is_idle() {
+                    Some(LinkEvent::LinkUp) => defmt::info!("link: up"),
+                    Some(LinkEvent::LinkLost) => defmt::warn!("link: lost"),
+                    Some(LinkEvent::PeerRestarted) => defmt::info!("link: phone restarted"),
+                    None => break,
+                }
+            }
+            while cx.local.link_tx.room() >= MAX_FRAME_LEN {
+                let Some(n) = link.poll_transmit(now, &mut frame) else {
+                    break;
+                };
+                cx.local.link_tx.send(frame.get(..n).unwrap_or(&[]));
+            }
+        }
+    }
+
+    /// The emulated board's body channel: the agent's orders out to the
+    /// host's simulated body, its reports in (see `BodyMsg`). Ends QEMU on
+    /// the host's `Q`, or when the host has been silent too long.
+    #[cfg(feature = "qemu")]
+    #[task(priority = 2, local = [body_tx, body_rx, body_io])]
+    async fn body(cx: body::Context) {
+        let io = cx.local.body_io;
+        send_line(cx.local.body_tx, BodyMsg::Hello);
+        let mut decoder = BodyDecoder::new();
+        let mut heard = now_ms();
+        loop {
+            let mut report = None;
+            if let Ok(Ok(byte)) = Mono::timeout_after(20.millis(), cx.local.body_rx.recv()).await {
+                match decoder.push(byte) {
+                    Some(BodyMsg::Report(r)) => {
+                        heard = now_ms();
+                        report = Some(AgentInput::Report(r));
+                    }
+                    Some(BodyMsg::KeepAlive) => heard = now_ms(),
+                    Some(BodyMsg::Quit) => {
+                        while !cx.local.body_tx.is_idle() {
                             Mono::delay(1.millis()).await;
                         }
-                        Mono::delay(5.millis()).await;
                         board::exit(true);
                     }
-                    Ok(Request::Quit) => Reply::Error(ParseError::UnknownKind),
-                },
+                    Some(other) => defmt::warn!("body: unexpected {}", defmt::Debug2Format(&other)),
+                    None => {}
+                }
+            }
+            io.report(report);
+            if now_ms().wrapping_sub(heard) > HOST_SILENCE_MS {
+                defmt::error!("body: host silent, ending the emulation");
+                board::exit(false);
+            }
+            while let Ok(cmd) = io.cmds.try_recv() {
+                if let BodyCmd::Order(o) = cmd {
+                    send_line(cx.local.body_tx, BodyMsg::Order(o));
+                }
+            }
+        }
+    }
+
+    /// Queues one body-channel line.
+    #[cfg(feature = "qemu")]
+    fn send_line(tx: &mut LinkTx, msg: BodyMsg) {
+        let (buf, n) = msg.encode();
+        if !tx.send(buf.get(..n).unwrap_or(&[])) {
+            defmt::warn!("body: transmit ring full, line dropped");
+        }
+    }
+
+    /// The agent: core-algo's agent and the firmware glue, at the lowest
+    /// priority (a decision plans over the whole map). Every input and
+    /// every 50 ms tick may produce orders for the body and messages for
+    /// the phone.
+    #[task(priority = 1, local = [agent, glue, agent_in, to_link, to_body])]
+    async fn agent(cx: agent::Context) {
+        let (agent, glue) = (cx.local.agent, cx.local.glue);
+        let _ = cx.local.to_link.send(LinkOut::Reliable(glue.hello())).await;
+        let mut next = Mono::now() + AGENT_TICK_MS.millis();
+        loop {
+            let input = Mono::timeout_at(next, cx.local.agent_in.recv()).await;
+            let now = now_ms();
+            let mut out = Effects::new();
+            match input {
+                Ok(Ok(AgentInput::Message(m))) => {
+                    if let Message::Start { settings, .. } = &m {
+                        agent.set_timing(timing_for(settings.speed));
+                        let _ = cx.local.to_body.send(BodyCmd::Speed(settings.speed)).await;
+                    }
+                    glue.on_message(agent, now, &m, &mut out);
+                }
+                Ok(Ok(AgentInput::Report(r))) => glue.on_report(agent, now, r, &mut out),
+                Ok(Err(_)) => {
+                    defmt::error!("agent: input queue closed");
+                    return;
+                }
+                Err(_) => {}
+            }
+            carry_out(cx.local.to_link, cx.local.to_body, out).await;
+            if Mono::now() >= next {
+                let mut out = Effects::new();
+                glue.tick(agent, now, &mut out);
+                carry_out(cx.local.to_link, cx.local.to_body, out).await;
+                next += AGENT_TICK_MS.millis();
+                if Mono::now() > next {
+                    next = Mono::now() + AGENT_TICK_MS.millis();
+                }
+            }
+        }
+    }
+
+    /// Hands the glue's effects to the link and the body. Waits when a
+    /// queue is full: their consumers never wait for the agent.
+    async fn carry_out(
+        to_link: &mut Sender<'static, LinkOut, LINK_QUEUE>,
+        to_body: &mut Sender<'static, BodyCmd, BODY_QUEUE>,
+        effects: Effects,
+    ) {
+        for e in effects {
+            let _ = match e {
+                Effect::Body(o) => to_body.send(BodyCmd::Order(o)).await.map_err(|_| ()),
+                Effect::Send(m) => to_link.send(LinkOut::Reliable(m)).await.map_err(|_| ()),
+                Effect::Datagram(m) => to_link.send(LinkOut::Datagram(m)).await.map_err(|_| ()),
             };
-            send(cx.local.link_tx, reply);
-        }
-    }
-
-    fn send(tx: &mut LinkTx, reply: Reply) {
-        let mut payload = [0u8; drivers_logic::frame::MAX_PAYLOAD];
-        let n = reply.encode(&mut payload);
-        if !tx.send(&payload[..n]) {
-            defmt::warn!("link: transmit ring full, reply dropped");
-        }
-    }
-
-    /// The agent: decisions at nodes (lowest priority).
-    #[task(priority = 1, shared = [map], local = [from_control, robot])]
-    async fn agent(mut cx: agent::Context) {
-        let mut agent = Agent {
-            robot: *cx.local.robot,
-        };
-        while let Ok(event) = cx.local.from_control.recv().await {
-            cx.shared.map.lock(|m| agent.on_event(m, event));
         }
     }
 }

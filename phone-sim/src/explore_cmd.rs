@@ -6,7 +6,9 @@
 
 use crate::bench::bound::lower_bounds;
 use crate::cli::{CliError, ReadArgs, demo_field, load};
+use crate::environment::Environment;
 use crate::field::{Field, ascii};
+use crate::sim::body::Bodies;
 use crate::sim::channel::ChannelFaults;
 use crate::sim::robot::BoxedStrategy;
 use crate::sim::{Faults, Outcome, SimConfig, Simulation};
@@ -76,6 +78,22 @@ pub struct ExploreArgs {
     /// How to read the field.
     #[command(flatten)]
     pub read: ReadArgs,
+    /// Run N robots as the real firmware emulated in QEMU, with simulated
+    /// bodies attached, instead of simulated firmware.
+    #[arg(long, value_name = "N")]
+    pub qemu: Option<usize>,
+    /// The firmware ELF built with `--features qemu` (default:
+    /// firmware-rtic/target/firmware-qemu.elf as firmware-rtic/ci.sh writes
+    /// it, else cargo's output path).
+    #[arg(long, value_name = "PATH")]
+    pub qemu_firmware: Option<PathBuf>,
+    /// Emulated robots drive this many times faster than real ones (the
+    /// report gives times at the real speed).
+    #[arg(long, default_value_t = 10)]
+    pub qemu_scale: u32,
+    /// Give up an emulated run after this many wall-clock seconds.
+    #[arg(long, default_value_t = 240)]
+    pub qemu_timeout: u32,
 }
 
 impl Default for ExploreArgs {
@@ -283,19 +301,12 @@ pub fn simulate(field: &Field, a: &ExploreArgs) -> Result<(Simulation, Outcome, 
     Ok((sim, outcome, t0.elapsed().as_secs_f64()))
 }
 
-/// The report of a finished run.
-pub fn report(
-    field: &Field,
-    a: &ExploreArgs,
-    sim: &Simulation,
-    o: &Outcome,
-    wall_s: f64,
-) -> Report {
+/// The report of a finished run whose bodies moved with `timing`.
+pub fn report(field: &Field, a: &ExploreArgs, timing: Timing, o: &Outcome, wall_s: f64) -> Report {
     let k = o.robots.len();
     let starts: Vec<Pos> = field.starts().iter().take(k).map(|s| s.pos).collect();
     let truth = Truth::new(field.nodes().iter().map(|(p, a)| (*p, *a)));
     let bound = lower_bounds(&truth, &starts, k).with_return;
-    let timing = sim.bodies().timing();
     let lower_bound_s = Timing::seconds(bound * u64::from(timing.edge));
     let makespan_s = f64::from(o.makespan_ms) / 1000.0;
     Report {
@@ -361,22 +372,41 @@ pub fn run(a: &ExploreArgs) -> Result<(), CliError> {
                 .map_err(|e| CliError::BadInput(format!("random starts: {e}")))?
         }
     };
+    if a.qemu.is_some() {
+        if a.localize != Localize::Known {
+            return Err(CliError::BadInput(
+                "--localize works with the simulator only, not with --qemu".to_string(),
+            ));
+        }
+        return crate::qemu::run(&field, a);
+    }
     let (sim, outcome, wall) = simulate(&field, a)?;
-    let r = report(&field, a, &sim, &outcome, wall);
+    let r = report(&field, a, sim.bodies().timing(), &outcome, wall);
+    finish(&field, a, sim.env(), sim.bodies(), &r, sim.true_to_team())
+}
+
+/// Prints the report (or its JSON) and draws the map if asked: the end of
+/// every `explore` run, simulated or emulated.
+pub fn finish(
+    field: &Field,
+    a: &ExploreArgs,
+    env: &Environment,
+    bodies: &Bodies,
+    r: &Report,
+    to_team: core_algo::localize::Frame,
+) -> Result<(), CliError> {
     if a.json {
-        let text = serde_json::to_string(&r).map_err(|e| CliError::Failed(e.to_string()))?;
+        let text = serde_json::to_string(r).map_err(|e| CliError::Failed(e.to_string()))?;
         println!("{text}");
     } else {
-        print_report(&sim, &r);
+        print_report(env, bodies, r, to_team);
     }
     if let Some(out) = &a.out {
-        let known: Vec<(Pos, core_algo::geometry::Arms)> = sim
-            .env()
+        let known: Vec<(Pos, core_algo::geometry::Arms)> = env
             .map()
             .visited()
             .filter_map(|(p, c)| c.arms().map(|a| (p, a)))
             .collect();
-        let to_team = sim.true_to_team();
         let map_field = Field::new(
             format!("{} (explored)", field.name()),
             known.into_iter().collect(),
@@ -396,16 +426,18 @@ pub fn run(a: &ExploreArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-fn print_report(sim: &Simulation, r: &Report) {
-    let env = sim.env();
+fn print_report(
+    env: &Environment,
+    bodies: &Bodies,
+    r: &Report,
+    to_team: core_algo::localize::Frame,
+) {
     let nodes: std::collections::BTreeMap<_, _> = env
         .map()
         .visited()
         .filter_map(|(p, c)| c.arms().map(|a| (p, a)))
         .collect();
-    let to_team = sim.true_to_team();
-    let marks: Vec<(Pos, char)> = sim
-        .bodies()
+    let marks: Vec<(Pos, char)> = bodies
         .bodies()
         .iter()
         .map(|b| (to_team.pos(b.pos), ascii::arrow(to_team.heading(b.heading))))

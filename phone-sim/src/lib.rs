@@ -16,6 +16,7 @@ pub mod field;
 pub mod handlers;
 pub mod phone;
 pub mod proxy;
+pub mod qemu;
 pub mod render;
 pub mod sensor_world;
 pub mod sim;

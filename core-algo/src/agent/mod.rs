@@ -38,6 +38,8 @@ use crate::team::RobotId;
 use crate::timing::{TICK_MS, Ticks};
 use heapless::Vec;
 
+pub mod body;
+pub mod firmware;
 mod homecoming;
 mod io;
 mod localizing;
@@ -167,6 +169,13 @@ where
     /// This robot's id.
     pub fn id(&self) -> RobotId {
         self.id
+    }
+
+    /// Replaces the timing the strategy costs moves with: a robot learns
+    /// its line speed (and so its timing) only from the phone's start
+    /// message, after the agent was built.
+    pub fn set_timing(&mut self, timing: crate::timing::Timing) {
+        self.config.timing = timing;
     }
 
     /// The current mode.

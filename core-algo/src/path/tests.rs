@@ -145,6 +145,35 @@ fn too_small_scratch_is_an_error_not_a_panic() {
     assert_eq!(r, Err(PlanError::OutOfBounds(Pos::new(-1, 0))));
 }
 
+/// Found by the property below (CI, 2026-11-23): cheap edges and dear
+/// turns kept more states in flight than a 64-cell scratch could queue.
+#[test]
+fn small_window_with_dear_turns_never_overflows() {
+    let (w, h) = (9u16, 7u16);
+    let area = usize::from(w) * usize::from(h);
+    let map = random_known(
+        w,
+        h,
+        5_133_438_870_701_904_914,
+        (area as f64 * 0.89) as usize + 1,
+    );
+    let t = Timing {
+        edge: 1,
+        quarter_turn: 5,
+    };
+    let mut f = field_for(area);
+    let r = f.compute(&map, t, Pos::new(0, 0), Heading::North, |_, _| {
+        Flow::Continue
+    });
+    assert_eq!(r, Ok(()));
+    let want = brute(&map, t, 0, 0);
+    for v in 0..area {
+        let p = map.bounds().pos(v);
+        let node = (0..4).filter_map(|k| want[v * 4 + k]).min();
+        assert_eq!(f.dist(p), node, "node {p:?}");
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(96))]
 

@@ -3,7 +3,7 @@
 //! The parts of the e-puck2 drivers that do not touch a register: step
 //! sequences and timer periods, the proximity sampling schedule, the decoding
 //! of the ground-sensor module's I2C frame, the selector, the LED levels, the
-//! calibration record stored in flash, and the bootstrap link framing.
+//! calibration record stored in flash.
 //!
 //! Why a separate crate: the firmware builds only for `thumbv7em-none-eabihf`,
 //! so everything that can be wrong without hardware lives here and is tested
@@ -19,7 +19,6 @@ extern crate std;
 
 pub mod calibration;
 pub mod config;
-pub mod frame;
 pub mod ground;
 pub mod leds;
 pub mod proximity;

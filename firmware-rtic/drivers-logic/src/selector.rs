@@ -29,11 +29,19 @@ impl BootMode {
 /// as QEMU's `-kernel` path followed by its `-append` text, so that several
 /// emulated robots can have different ids and selector 0 can be tried.
 pub fn from_cmdline(cmdline: &[u8]) -> Option<u8> {
+    cmdline_value(cmdline, b"selector")
+        .and_then(|v| u8::try_from(v).ok())
+        .filter(|&v| v <= 15)
+}
+
+/// The decimal value of the first `key=N` word in an emulator command line
+/// (the emulated board also reads its link nonce this way, so that the host
+/// can give every run a fresh session).
+pub fn cmdline_value(cmdline: &[u8], key: &[u8]) -> Option<u32> {
     cmdline
         .split(|&b| b == b' ' || b == 0)
-        .filter_map(|word| word.strip_prefix(b"selector="))
-        .find_map(|v| core::str::from_utf8(v).ok()?.parse::<u8>().ok())
-        .filter(|&v| v <= 15)
+        .filter_map(|word| word.strip_prefix(key)?.strip_prefix(b"="))
+        .find_map(|v| core::str::from_utf8(v).ok()?.parse::<u32>().ok())
 }
 
 #[cfg(test)]
@@ -56,6 +64,16 @@ mod tests {
         assert_eq!(from_cmdline(b"fw.elf selector=x"), None);
         assert_eq!(from_cmdline(b"fw.elf"), None);
         assert_eq!(from_cmdline(b""), None);
+        assert_eq!(from_cmdline(b"fw.elf selector=300"), None);
+    }
+
+    #[test]
+    fn cmdline_values() {
+        let line = b"fw.elf selector=2 nonce=4000000000 nonces=7";
+        assert_eq!(cmdline_value(line, b"nonce"), Some(4_000_000_000));
+        assert_eq!(cmdline_value(line, b"selector"), Some(2));
+        assert_eq!(cmdline_value(b"fw.elf nonce=-1", b"nonce"), None);
+        assert_eq!(cmdline_value(b"fw.elf nonces=7", b"nonce"), None);
     }
 
     #[test]

@@ -3,14 +3,17 @@
 //! QEMU runs the core and SysTick at 168 MHz whatever RCC says, and models
 //! the USARTs; it has no RCC (the HSE/PLL start-up would wait forever), GPIO,
 //! I2C or flash controller. So: internal 16 MHz clock configuration, real
-//! USART3 (QEMU's third `-serial`), virtual motors integrating their speed
-//! over SysTick time, and fixed virtual sensor readings (robot on a line,
-//! nothing in the way) until the host side attaches a simulated body.
+//! USART3 (QEMU's third `-serial`) for the link, USART2 (the second
+//! `-serial`) for the body channel to the simulated body the host attaches
+//! (`core_algo::agent::body::BodyMsg`), virtual motors integrating their
+//! speed over SysTick time, and fixed virtual sensor readings (robot on a
+//! line, nothing in the way) for the control task.
 
 use super::Board;
 use crate::drivers::{config::ConfigStore, leds::Leds};
 use drivers_logic::ground::GroundReading;
 use drivers_logic::proximity::{ProxScan, SENSORS};
+use drivers_logic::selector::{cmdline_value, from_cmdline};
 use drivers_logic::stepper::{Side, VirtualWheel};
 use rtic_monotonics::systick::prelude::*;
 use stm32f4xx_hal::{
@@ -29,10 +32,9 @@ pub const EMULATED: bool = true;
 /// says `-append selector=N`: "run" as robot 1.
 pub const SELECTOR: u8 = 1;
 
-/// The selector for this emulated robot, from QEMU's `-append` text (read
-/// through the semihosting `SYS_GET_CMDLINE` call), else [`SELECTOR`].
-fn selector() -> u8 {
-    let mut text = [0u8; 256];
+/// QEMU's `-append` text, read through the semihosting `SYS_GET_CMDLINE`
+/// call, into `text`; returns its length (0 without one).
+fn cmdline(text: &mut [u8; 256]) -> usize {
     // Parameter block: buffer address and size in; length written back.
     let mut block = [text.as_mut_ptr() as usize, text.len()];
     // SAFETY: QEMU is started with semihosting enabled (documented, and the
@@ -46,10 +48,27 @@ fn selector() -> u8 {
         )
     };
     if rc != 0 {
-        return SELECTOR;
+        return 0;
     }
-    let len = block[1].min(text.len());
-    drivers_logic::selector::from_cmdline(&text[..len]).unwrap_or(SELECTOR)
+    block[1].min(text.len())
+}
+
+/// The host's wall clock in seconds (semihosting `SYS_TIME`), for a nonce
+/// when the command line gives none.
+fn host_time() -> u32 {
+    // SAFETY: semihosting is enabled (see `cmdline`); SYS_TIME takes no
+    // parameter block.
+    #[allow(unsafe_code)]
+    let t = unsafe { cortex_m_semihosting::syscall1(cortex_m_semihosting::nr::TIME, 0) };
+    t as u32
+}
+
+/// `bench=N` on the command line: time N behaviour steps and exit (see
+/// [`crate::robot::bench`]).
+pub fn bench_steps() -> Option<u32> {
+    let mut text = [0u8; 256];
+    let len = cmdline(&mut text);
+    cmdline_value(text.get(..len).unwrap_or(&[]), b"bench")
 }
 
 /// Steppers without timers: the same `Stepper` logic, advanced by elapsed
@@ -174,6 +193,22 @@ pub fn init(dp: pac::Peripherals) -> Board {
         &mut rcc,
     )
     .unwrap_or_else(|_| defmt::panic!("USART3 config"));
+    let gpioa = dp.GPIOA.split(&mut rcc);
+    let body_serial = Serial::new(
+        dp.USART2,
+        (gpioa.pa2, gpioa.pa3),
+        SerialConfig::default().baudrate(115_200.bps()),
+        &mut rcc,
+    )
+    .unwrap_or_else(|_| defmt::panic!("USART2 config"));
+    let mut text = [0u8; 256];
+    let len = cmdline(&mut text);
+    let text = text.get(..len).unwrap_or(&[]);
+    let selector = from_cmdline(text).unwrap_or(SELECTOR);
+    // `nonce=N` from the host, else the host clock: a fresh link session
+    // at every boot.
+    let nonce = cmdline_value(text, b"nonce")
+        .unwrap_or_else(|| host_time().rotate_left(8) ^ u32::from(selector));
     Board {
         motors: Motors::new(),
         prox: Proximity {
@@ -181,8 +216,10 @@ pub fn init(dp: pac::Peripherals) -> Board {
         },
         ground: Ground,
         leds,
-        selector: selector(),
+        selector,
+        nonce,
         serial,
+        body_serial,
         config: ConfigStore::new(dp.FLASH),
     }
 }

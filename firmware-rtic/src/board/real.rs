@@ -20,6 +20,7 @@ use stm32f4xx_hal::{
     pac,
     prelude::*,
     rcc::Config,
+    rng::RngExt,
     serial::{Serial, config::Config as SerialConfig},
 };
 
@@ -152,6 +153,10 @@ pub fn init(dp: pac::Peripherals) -> Board {
     }
     .read();
 
+    // The link's session nonce from the hardware RNG (PLL48 runs), so that
+    // a rebooted robot starts a new session.
+    let nonce = random_word(dp.RNG.constrain(&mut rcc).release());
+
     let serial = Serial::new(
         dp.USART3,
         (gpiod.pd8, gpiod.pd9),
@@ -166,12 +171,24 @@ pub fn init(dp: pac::Peripherals) -> Board {
         ground,
         leds,
         selector,
+        nonce,
         serial,
         config: ConfigStore::new(dp.FLASH),
     }
 }
 
-/// On hardware there is nothing to exit to: reset.
-pub fn exit(_success: bool) -> ! {
-    cortex_m::peripheral::SCB::sys_reset()
+/// One word from the RNG, or 1 if it reports a clock or seed error (or
+/// never becomes ready) — a fixed session still works, it only makes a
+/// reboot look like a reconnect to the phone.
+fn random_word(rng: pac::RNG) -> u32 {
+    for _ in 0..10_000 {
+        let sr = rng.sr().read();
+        if sr.cecs().bit() || sr.secs().bit() {
+            break;
+        }
+        if sr.drdy().bit() {
+            return rng.dr().read().rndata().bits();
+        }
+    }
+    1
 }

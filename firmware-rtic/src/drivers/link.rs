@@ -1,20 +1,22 @@
 //! USART3 (PD8 TX, PD9 RX, AF7) to the ESP32, which relays it over Bluetooth
 //! SPP ("UART" service); 115200 8N1, no flow control.
 //!
-//! Interrupt-driven ring buffers: the USART3 interrupt moves each received
+//! Interrupt-driven ring buffers: the USART interrupt moves each received
 //! byte into an `rtic_sync` channel (the receive ring the link task awaits)
 //! and drains a `heapless` SPSC queue (the transmit ring) while TXE is set.
-//! The link task enqueues whole frames and pends the interrupt to start
-//! transmission, so it never touches the peripheral. The F4 USART has no
+//! The link task enqueues whole frames (already COBS-encoded by core-algo's
+//! link layer) and pends the interrupt to start transmission, so it never
+//! touches the peripheral. The same rings serve the emulated board's body
+//! channel on USART2 (generic over the USART). The F4 USART has no
 //! FIFO, so this interrupt runs above every task that may block (sampling
 //! does ADC conversions, control a ~1 ms I2C read).
 
 use heapless::spsc::{Consumer, Producer, Queue};
 use rtic_sync::channel::{Receiver, Sender};
 use stm32f4xx_hal::{
-    pac::{Interrupt, USART3},
+    pac::Interrupt,
     prelude::*,
-    serial::{Rx, Tx},
+    serial::{Instance, Rx, Tx},
 };
 
 /// Receive ring size (bytes): a few frames, 11 ms of traffic at 115200 baud
@@ -31,23 +33,18 @@ pub type RxSender = Sender<'static, u8, RX_CAPACITY>;
 pub type RxReceiver = Receiver<'static, u8, RX_CAPACITY>;
 
 /// The interrupt half: owns the peripheral.
-pub struct LinkIsr {
-    rx: Rx<USART3>,
-    tx: Tx<USART3>,
+pub struct LinkIsr<U: Instance> {
+    rx: Rx<U>,
+    tx: Tx<U>,
     rx_bytes: RxSender,
     tx_bytes: Consumer<'static, u8>,
     /// Bytes lost to a full receive ring or a USART error (overrun, framing).
     pub rx_lost: u32,
 }
 
-impl LinkIsr {
+impl<U: Instance> LinkIsr<U> {
     /// Takes the split serial port (receiver already listening) and the rings.
-    pub fn new(
-        rx: Rx<USART3>,
-        tx: Tx<USART3>,
-        rx_bytes: RxSender,
-        tx_bytes: Consumer<'static, u8>,
-    ) -> Self {
+    pub fn new(rx: Rx<U>, tx: Tx<U>, rx_bytes: RxSender, tx_bytes: Consumer<'static, u8>) -> Self {
         LinkIsr {
             rx,
             tx,
@@ -57,7 +54,7 @@ impl LinkIsr {
         }
     }
 
-    /// USART3 interrupt body: one received byte in, as many bytes out as TXE allows.
+    /// USART interrupt body: one received byte in, as many bytes out as TXE allows.
     pub fn on_interrupt(&mut self) {
         if self.rx.is_rx_not_empty() {
             match self.rx.read() {
@@ -88,28 +85,32 @@ impl LinkIsr {
 /// The task half: queues whole frames for transmission.
 pub struct LinkTx {
     queue: Producer<'static, u8>,
+    irq: Interrupt,
 }
 
 impl LinkTx {
-    /// Wraps the transmit ring's producer.
-    pub fn new(queue: Producer<'static, u8>) -> Self {
-        LinkTx { queue }
+    /// Wraps the transmit ring's producer; `irq` is the USART's interrupt,
+    /// pended to start a transmission.
+    pub fn new(queue: Producer<'static, u8>, irq: Interrupt) -> Self {
+        LinkTx { queue, irq }
     }
 
-    /// COBS-frames `payload` and queues it; `false` (frame dropped whole) if
-    /// the ring lacks room, so the receiver never sees half a frame.
-    pub fn send(&mut self, payload: &[u8]) -> bool {
-        let mut frame = [0u8; drivers_logic::frame::MAX_FRAME];
-        let Some(n) = drivers_logic::frame::encode_frame(payload, &mut frame) else {
-            return false;
-        };
-        if self.queue.capacity() - self.queue.len() < n {
+    /// Free bytes in the ring.
+    pub fn room(&self) -> usize {
+        self.queue.capacity() - self.queue.len()
+    }
+
+    /// Queues `bytes` (one encoded frame or line) whole; `false` (dropped
+    /// whole) if the ring lacks room, so the receiver never sees half a
+    /// frame.
+    pub fn send(&mut self, bytes: &[u8]) -> bool {
+        if self.room() < bytes.len() {
             return false;
         }
-        for &b in &frame[..n] {
+        for &b in bytes {
             let _ = self.queue.enqueue(b);
         }
-        rtic::pend(Interrupt::USART3);
+        rtic::pend(self.irq);
         true
     }
 

@@ -229,6 +229,7 @@ impl<T: Read + Write + Send> RobotProxy for LegacyRobot<T> {
             retransmissions: self.timeouts,
             link_errors: self.io_errors + self.stream.skipped(),
             queued: self.queue.len(),
+            ..ProxyStats::default()
         }
     }
 }

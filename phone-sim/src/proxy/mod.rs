@@ -36,6 +36,10 @@ pub struct ProxyStats {
     pub link_errors: u32,
     /// Messages waiting for room in the link's window.
     pub queued: usize,
+    /// Frames sent to the robot.
+    pub tx_frames: u32,
+    /// Valid frames received from the robot.
+    pub rx_frames: u32,
 }
 
 /// The phone side's handle on one robot.
@@ -110,6 +114,8 @@ impl LinkEnd {
             retransmissions: self.link.retransmissions(),
             link_errors: self.link.rx_stats().errors(),
             queued: self.outbox.len(),
+            tx_frames: self.link.tx_frames(),
+            rx_frames: self.link.rx_stats().frames,
         }
     }
 }

@@ -1,5 +1,7 @@
 //! A real robot over a serial port: Bluetooth SPP (`/dev/rfcommN`) or USB,
-//! through the `serialport` crate, speaking the framed protocol.
+//! through the `serialport` crate, speaking the framed protocol. The same
+//! proxy serves any byte stream, such as the TCP socket QEMU connects an
+//! emulated robot's UART to.
 
 use super::{LinkEnd, ProxyEvent, ProxyStats, RobotProxy};
 use core_algo::protocol::{LinkConfig, MAX_FRAME_LEN, Message};
@@ -10,11 +12,17 @@ use std::time::Duration;
 /// The e-puck2's UART rate.
 pub const BAUD: u32 = 115_200;
 
-/// The proxy of a robot on a serial port.
+/// A byte stream to a robot. Reads must not block for long: they return
+/// `TimedOut` or `WouldBlock` when nothing arrived.
+pub trait Port: Read + Write + Send {}
+
+impl<T: Read + Write + Send> Port for T {}
+
+/// The proxy of a robot on a serial port (or another byte stream).
 pub struct SerialRobot {
     id: RobotId,
     name: String,
-    port: Box<dyn serialport::SerialPort>,
+    port: Box<dyn Port>,
     end: LinkEnd,
     io_errors: u32,
 }
@@ -26,13 +34,18 @@ impl SerialRobot {
             .timeout(Duration::from_millis(1))
             .open()
             .map_err(|e| format!("{path}: cannot open serial port: {e}"))?;
-        Ok(SerialRobot {
+        Ok(SerialRobot::over(id, path, Box::new(port), link))
+    }
+
+    /// The proxy of robot `id` on an open byte stream called `name`.
+    pub fn over(id: RobotId, name: &str, port: Box<dyn Port>, link: LinkConfig) -> Self {
+        SerialRobot {
             id,
-            name: path.to_string(),
+            name: name.to_string(),
             port,
             end: LinkEnd::new(link, core_algo::protocol::PHONE, fresh_nonce()),
             io_errors: 0,
-        })
+        }
     }
 
     /// The port's name.
@@ -43,7 +56,7 @@ impl SerialRobot {
 
 /// A fresh link nonce: the clock's nanoseconds, so that a restarted phone
 /// side starts a new session.
-fn fresh_nonce() -> u32 {
+pub fn fresh_nonce() -> u32 {
     std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(1, |d| d.subsec_nanos() ^ d.as_secs() as u32)
@@ -68,7 +81,15 @@ impl RobotProxy for SerialRobot {
             match self.port.read(&mut buf) {
                 Ok(0) => break,
                 Ok(n) => self.end.link.on_bytes(now, buf.get(..n).unwrap_or(&[])),
-                Err(e) if e.kind() == std::io::ErrorKind::TimedOut => break,
+                Err(e)
+                    if matches!(
+                        e.kind(),
+                        std::io::ErrorKind::TimedOut | std::io::ErrorKind::WouldBlock
+                    ) =>
+                {
+                    break;
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
                 Err(_) => {
                     self.io_errors += 1;
                     break;

@@ -22,39 +22,7 @@ use core_algo::team::RobotId;
 use core_algo::timing::{TICK_MS, Timing};
 use std::collections::{BTreeMap, VecDeque};
 
-/// An order to a body.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum Order {
-    /// Turn on the spot.
-    Turn(Turn),
-    /// Drive to the next node.
-    Move,
-    /// Turn once around on the spot and classify the node (the initial
-    /// scan of the start node).
-    Scan,
-}
-
-/// What a body's sensors report when an action ends.
-#[derive(Clone, Copy, PartialEq, Eq, Debug)]
-pub enum Report {
-    /// Arrived on a node with these arms relative to the body's heading.
-    NodeHit {
-        /// Bit 0 ahead, 1 right, 2 behind, 3 left.
-        relative: Arms,
-    },
-    /// Met another body; back on the node it left, facing back.
-    Collision,
-    /// No line ahead; stayed.
-    Abyss,
-    /// Standing on a node, its proximity sensors saw another robot come
-    /// close and turn back (the passive side of a collision).
-    Bumped {
-        /// Where the other robot came from, relative to the body like the
-        /// proximity ring sees it: north ahead, east to the right. Only the
-        /// robot's own agent knows how that lies in its frame.
-        side: Heading,
-    },
-}
+pub use core_algo::agent::body::{Order, Report};
 
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 enum Action {

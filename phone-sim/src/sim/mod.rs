@@ -449,36 +449,7 @@ impl Simulation {
 
     /// The run's result so far.
     pub fn outcome(&self) -> Outcome {
-        let map = self.phone.env().map();
-        let to_team = self.true_to_team();
-        let map_correct = self.field.nodes().iter().all(|(p, a)| {
-            map.known_arms(to_team.pos(*p)) == Some(a.rotated_cw(to_team.quarter_turns))
-        });
-        let localization = self.config.localize.map(|_| self.localization());
         let alive: Vec<bool> = self.firmware.iter().map(|f| !f.is_dead()).collect();
-        let all_home = self
-            .bodies
-            .bodies()
-            .iter()
-            .zip(self.field.starts())
-            .zip(&alive)
-            .all(|((b, s), alive)| !alive || (b.pos == s.pos && b.is_idle()));
-        let robots = self
-            .bodies
-            .bodies()
-            .iter()
-            .zip(self.phone.env().robots())
-            .zip(&alive)
-            .map(|((b, r), alive)| RobotOutcome {
-                id: r.id,
-                alive: *alive,
-                explored: r.explored,
-                driven_edges: b.stats.edges,
-                quarter_turns: b.stats.quarter_turns,
-                revisits: b.stats.revisits,
-                collisions: b.stats.collisions,
-            })
-            .collect();
         let (mut down, mut up) = (ChannelStats::default(), ChannelStats::default());
         for p in &self.proxies {
             let (d, u) = p.channel_stats();
@@ -487,24 +458,78 @@ impl Simulation {
             up.sent += u.sent;
             up.lost += u.lost;
         }
-        let stats = self.phone.env().stats();
-        Outcome {
-            complete: map_correct && all_home && map.is_complete(),
-            map_correct,
-            all_home,
-            makespan_ms: self.done_at.unwrap_or(self.now),
-            robots,
-            frames_sent: down.sent + up.sent,
-            frames_lost: down.lost + up.lost,
-            retransmissions: stats.retransmissions,
-            messages: stats.received,
-            relayed: stats.relayed,
-            conflicts: stats.conflicts,
-            unhandled: stats.unhandled,
-            localization,
-        }
+        let mut o = outcome_of(
+            &self.field,
+            self.phone.env(),
+            &self.bodies,
+            &alive,
+            self.done_at.unwrap_or(self.now),
+            (down.sent + up.sent, down.lost + up.lost),
+            self.true_to_team(),
+        );
+        o.localization = self.config.localize.map(|_| self.localization());
+        o
     }
+}
 
+/// The result of a run on `field` from the phone's model `env` and the
+/// `bodies` on the true field: shared by the simulator and the runs with
+/// emulated firmware (`crate::qemu`). `frames` is (sent, lost); `to_team`
+/// maps the true frame into the team's (the identity with known poses).
+pub fn outcome_of(
+    field: &Field,
+    env: &Environment,
+    bodies: &Bodies,
+    alive: &[bool],
+    makespan_ms: u32,
+    frames: (u64, u64),
+    to_team: core_algo::localize::Frame,
+) -> Outcome {
+    let map = env.map();
+    let map_correct = field
+        .nodes()
+        .iter()
+        .all(|(p, a)| map.known_arms(to_team.pos(*p)) == Some(a.rotated_cw(to_team.quarter_turns)));
+    let all_home = bodies
+        .bodies()
+        .iter()
+        .zip(field.starts())
+        .zip(alive)
+        .all(|((b, s), alive)| !alive || (b.pos == s.pos && b.is_idle()));
+    let robots = bodies
+        .bodies()
+        .iter()
+        .zip(env.robots())
+        .zip(alive)
+        .map(|((b, r), alive)| RobotOutcome {
+            id: r.id,
+            alive: *alive,
+            explored: r.explored,
+            driven_edges: b.stats.edges,
+            quarter_turns: b.stats.quarter_turns,
+            revisits: b.stats.revisits,
+            collisions: b.stats.collisions,
+        })
+        .collect();
+    let stats = env.stats();
+    Outcome {
+        complete: map_correct && all_home && map.is_complete(),
+        map_correct,
+        all_home,
+        makespan_ms,
+        robots,
+        frames_sent: frames.0,
+        frames_lost: frames.1,
+        retransmissions: stats.retransmissions,
+        messages: stats.received,
+        relayed: stats.relayed,
+        conflicts: stats.conflicts,
+        unhandled: stats.unhandled,
+        localization: None,
+    }
+}
+
+impl Simulation {
     /// How localization went, checked against the truth.
     fn localization(&self) -> Localization {
         let starts = self.field.starts();

@@ -5,15 +5,17 @@
 
 use super::body::{Order, Report};
 use crate::proxy::LinkEnd;
-use core_algo::agent::{Agent, AgentConfig, Command, Event as AgentEvent, ManualOrder, PeerNews};
+use core_algo::agent::firmware::{Effect, Effects, Glue};
+use core_algo::agent::{Agent, AgentConfig};
 use core_algo::explore::{Context, Decision, MAX_ROBOTS, Strategy};
-use core_algo::geometry::{Arms, Heading, Pos};
 use core_algo::map::{Block, Bounds, KnownMap, blocks_for};
 use core_algo::path::{DistField, PlanCell, PlanError, min_cells};
 use core_algo::protocol::link::Event as LinkEvent;
-use core_algo::protocol::message::{Broadcast, FailureKind, FirmwareVersion, RobotState, Status};
-use core_algo::protocol::{LinkConfig, Message, Pose};
+use core_algo::protocol::message::FirmwareVersion;
+use core_algo::protocol::{LinkConfig, Message};
 use core_algo::team::RobotId;
+
+pub use core_algo::agent::firmware::{agent_event, node_hit};
 
 /// A strategy chosen at run time, as the simulator and the phone side hold
 /// them.
@@ -54,12 +56,9 @@ pub fn host_agent(
     Agent::new(id, map, fields, strategy, config)
 }
 
-/// The firmware version simulated robots report.
-pub const SIM_FIRMWARE: FirmwareVersion = FirmwareVersion {
-    major: 0,
-    minor: 1,
-    patch: 0,
-};
+/// The firmware version simulated robots report: the same glue as the
+/// real firmware, so the same version.
+pub const SIM_FIRMWARE: FirmwareVersion = core_algo::agent::firmware::FIRMWARE_VERSION;
 
 /// Counters of one simulated robot.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -75,7 +74,7 @@ pub struct SimFirmware {
     id: RobotId,
     agent: HostAgent,
     end: LinkEnd,
-    finished: bool,
+    glue: Glue,
     dead: bool,
     stats: FirmwareStats,
     hello_sent: bool,
@@ -88,7 +87,7 @@ impl SimFirmware {
             id,
             agent,
             end: LinkEnd::new(link_config, id, nonce),
-            finished: false,
+            glue: Glue::new(id),
             dead: false,
             stats: FirmwareStats::default(),
             hello_sent: false,
@@ -143,28 +142,9 @@ impl SimFirmware {
         if self.dead {
             return;
         }
-        let event = match report {
-            Report::NodeHit { relative } => AgentEvent::NodeHit { relative },
-            Report::Collision => {
-                self.queue(Message::Collision {
-                    proximity: 0b1000_0001,
-                });
-                AgentEvent::Collision
-            }
-            Report::Bumped { side } => {
-                // The proximity ring sees relative to the body; the agent
-                // thinks in its frame.
-                let (_, facing) = self.agent.pose();
-                AgentEvent::Bumped {
-                    toward: Heading::from_index(facing.index() + side.index()),
-                }
-            }
-            Report::Abyss => {
-                self.queue(Message::Abyss { floor: 0b111 });
-                AgentEvent::Rejected
-            }
-        };
-        self.feed(now, event, orders);
+        let mut out = Effects::new();
+        self.glue.on_report(&mut self.agent, now, report, &mut out);
+        self.apply(out, orders);
     }
 
     /// Periodic work: link timers and the agent's timeouts.
@@ -175,14 +155,13 @@ impl SimFirmware {
         if !self.hello_sent {
             // Announce readiness first, as the real firmware does.
             self.hello_sent = true;
-            self.queue(Message::Hello {
-                robot: self.id,
-                firmware: SIM_FIRMWARE,
-            });
+            self.queue(self.glue.hello());
         }
         self.end.link.tick(now);
         self.drain_link(now, orders);
-        self.feed(now, AgentEvent::Tick, orders);
+        let mut out = Effects::new();
+        self.glue.tick(&mut self.agent, now, &mut out);
+        self.apply(out, orders);
     }
 
     /// The next bytes to send to the phone, if any.
@@ -194,72 +173,26 @@ impl SimFirmware {
         self.end.link.poll_transmit(now, buf)
     }
 
-    fn status(&self, now: u32) -> Message {
-        let (pos, heading) = self.agent.pose();
-        Message::Status(Status {
-            uptime_ms: now,
-            pose: Pose { pos, heading },
-            state: if self.finished {
-                RobotState::Finished
-            } else {
-                RobotState::Stopped
-            },
-            floor: 0,
-            proximity: 0,
-        })
-    }
-
     fn drain_link(&mut self, now: u32, orders: &mut Vec<Order>) {
         while let Some(ev) = self.end.link.poll_event() {
             let LinkEvent::Received { message, .. } = ev else {
                 continue;
             };
-            if message == Message::RequestStatus {
-                let s = self.status(now);
-                self.end.link.send_datagram(s);
-                continue;
-            }
-            let Some(event) = agent_event(&message) else {
-                continue;
-            };
-            self.feed(now, event, orders);
+            let mut out = Effects::new();
+            self.glue
+                .on_message(&mut self.agent, now, &message, &mut out);
+            self.apply(out, orders);
         }
     }
 
-    fn feed(&mut self, now: u32, event: AgentEvent, orders: &mut Vec<Order>) {
-        let Ok(commands) = self.agent.handle(now, event) else {
-            return;
-        };
-        if matches!(
-            event,
-            AgentEvent::Start { .. } | AgentEvent::StartLocalize { .. }
-        ) {
-            // The initial scan classifies the start node (seed §2.5).
-            orders.push(Order::Scan);
-        }
-        for c in commands {
-            match c {
-                Command::Turn(t) => orders.push(Order::Turn(t)),
-                Command::Move => orders.push(Order::Move),
-                Command::Report { pos, arms, heading } => self.queue(node_hit(pos, heading, arms)),
-                Command::Announce { target } => self.queue(Message::Intent { target }),
-                Command::Localize(news) => self.queue(Message::Relayed {
-                    origin: self.id,
-                    broadcast: Broadcast::Localize(news),
-                }),
-                Command::Finished => {
-                    self.finished = true;
-                    let s = self.status(now);
-                    self.queue(s);
-                }
-                Command::Stop => {
-                    self.queue(Message::Relayed {
-                        origin: self.id,
-                        broadcast: Broadcast::Failure {
-                            kind: FailureKind::NodeObstruction,
-                        },
-                    });
-                }
+    /// Carries out the glue's effects: orders to the body, messages to the
+    /// link.
+    fn apply(&mut self, effects: Effects, orders: &mut Vec<Order>) {
+        for e in effects {
+            match e {
+                Effect::Body(o) => orders.push(o),
+                Effect::Send(m) => self.queue(m),
+                Effect::Datagram(m) => self.end.link.send_datagram(m),
             }
         }
     }
@@ -269,53 +202,5 @@ impl SimFirmware {
         if self.end.queued() > 0 {
             self.stats.deferred += 1;
         }
-    }
-}
-
-/// What a phone → robot message means to the robot's agent, if anything:
-/// shared by every body that carries an agent (the simulated firmware, the
-/// phone-side brain of a 2010 robot).
-pub fn agent_event(message: &Message) -> Option<AgentEvent> {
-    Some(match *message {
-        Message::Start { pose, .. } => AgentEvent::Start {
-            pos: pose.pos,
-            heading: pose.heading,
-        },
-        Message::Relayed {
-            origin,
-            ref broadcast,
-        } => match *broadcast {
-            Broadcast::NodeHit { pose, arms } => AgentEvent::Peer(
-                origin,
-                PeerNews::NodeHit {
-                    pos: pose.pos,
-                    heading: pose.heading,
-                    arms,
-                },
-            ),
-            Broadcast::Intent { target } => AgentEvent::Peer(origin, PeerNews::Intent { target }),
-            Broadcast::Failure { .. } => AgentEvent::Peer(origin, PeerNews::Failed),
-            Broadcast::Localize(news) => AgentEvent::Peer(origin, PeerNews::Localize(news)),
-        },
-        Message::StartLocalize { method, settings } => AgentEvent::StartLocalize {
-            method,
-            team: settings.team_size,
-        },
-        Message::Manual { on } => AgentEvent::Manual(if on {
-            ManualOrder::Take
-        } else {
-            ManualOrder::Release
-        }),
-        Message::Turn(t) => AgentEvent::Manual(ManualOrder::Turn(t)),
-        Message::Move => AgentEvent::Manual(ManualOrder::Move),
-        _ => return None,
-    })
-}
-
-/// A node-hit message.
-pub fn node_hit(pos: Pos, heading: Heading, arms: Arms) -> Message {
-    Message::NodeHit {
-        pose: Pose { pos, heading },
-        arms,
     }
 }
