@@ -23,6 +23,7 @@ pub mod behaviour;
 pub mod control;
 pub mod explore;
 pub mod geometry;
+pub mod localize;
 pub mod map;
 pub mod path;
 pub mod protocol;

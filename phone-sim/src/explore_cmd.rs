@@ -14,6 +14,7 @@ use crate::sim::robot::BoxedStrategy;
 use crate::sim::{Faults, Outcome, SimConfig, Simulation};
 use crate::world::Truth;
 use core_algo::geometry::Pos;
+use core_algo::protocol::message::LocalizeMethod;
 use core_algo::team::RobotId;
 use core_algo::timing::Timing;
 use serde::Serialize;
@@ -58,6 +59,16 @@ pub struct ExploreArgs {
     /// Line speed in motor steps per second (e-puck: up to about 1000).
     #[arg(long, default_value_t = core_algo::timing::DEFAULT_SPEED_STEPS_PER_S)]
     pub speed: u32,
+    /// How the robots learn their start poses: `known` (the phone tells
+    /// them, the 2010 way), `local` (they localize from adjacent starts,
+    /// seed §4.2) or `global` (from any starts, seed §4.3).
+    #[arg(long, default_value = "known", value_parser = parse_localize)]
+    pub localize: Localize,
+    /// Replace the field's start poses by random distinct nodes and
+    /// headings drawn from this seed (one per robot): arbitrary starts for
+    /// `--localize global`.
+    #[arg(long)]
+    pub random_starts: Option<u64>,
     /// Print one JSON object instead of the report.
     #[arg(long)]
     pub json: bool,
@@ -94,6 +105,43 @@ impl Default for ExploreArgs {
             args: ExploreArgs,
         }
         <Wrap as clap::Parser>::parse_from(["explore"]).args
+    }
+}
+
+/// How a run's robots learn their start poses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Localize {
+    /// The phone tells them.
+    Known,
+    /// They localize by this method.
+    By(LocalizeMethod),
+}
+
+impl Localize {
+    /// The method, `None` for known poses.
+    pub fn method(self) -> Option<LocalizeMethod> {
+        match self {
+            Localize::Known => None,
+            Localize::By(m) => Some(m),
+        }
+    }
+
+    /// The command line's word for it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Localize::Known => "known",
+            Localize::By(LocalizeMethod::Local) => "local",
+            Localize::By(LocalizeMethod::Global) => "global",
+        }
+    }
+}
+
+fn parse_localize(s: &str) -> Result<Localize, String> {
+    match s {
+        "known" => Ok(Localize::Known),
+        "local" => Ok(Localize::By(LocalizeMethod::Local)),
+        "global" => Ok(Localize::By(LocalizeMethod::Global)),
+        _ => Err(format!("expected known, local or global, found '{s}'")),
     }
 }
 
@@ -189,6 +237,18 @@ pub struct Report {
     pub retransmissions: u64,
     /// Conflicting reports.
     pub conflicts: u64,
+    /// How the robots learned their poses: known, local or global.
+    pub localize: String,
+    /// Until the last robot joined the team frame, seconds (`null`: poses
+    /// were known, or localization did not finish).
+    pub localize_s: Option<f64>,
+    /// Every robot's pose relative to robot 0 right (`null`: poses were
+    /// known).
+    pub poses_correct: Option<bool>,
+    /// Why localization gave up, if it did.
+    pub localize_failure: Option<String>,
+    /// Moves the team made while localizing.
+    pub localize_moves: Option<u32>,
     /// Wall time of the simulation, seconds.
     pub wall_s: f64,
     /// Per robot.
@@ -228,6 +288,7 @@ pub fn build(field: &Field, a: &ExploreArgs) -> Result<Simulation, CliError> {
             cut: Vec::new(),
         },
         speed: a.speed.clamp(1, 2000),
+        localize: a.localize.method(),
         ..SimConfig::default()
     };
     let name = a.strategy.clone();
@@ -276,6 +337,19 @@ pub fn report(field: &Field, a: &ExploreArgs, timing: Timing, o: &Outcome, wall_
         frames_lost: o.frames_lost,
         retransmissions: o.retransmissions,
         conflicts: o.conflicts,
+        localize: a.localize.name().to_string(),
+        localize_s: o
+            .localization
+            .as_ref()
+            .and_then(|l| l.localized_ms)
+            .map(|ms| f64::from(ms) / 1000.0),
+        poses_correct: o.localization.as_ref().map(|l| l.poses_correct),
+        localize_failure: o
+            .localization
+            .as_ref()
+            .and_then(|l| l.failure)
+            .map(|f| format!("{f:?}")),
+        localize_moves: o.localization.as_ref().map(|l| l.moves),
         wall_s,
         per_robot: o
             .robots
@@ -300,12 +374,26 @@ pub fn run(a: &ExploreArgs) -> Result<(), CliError> {
         Some(p) => load(p, a.read)?,
         None => demo_field()?,
     };
+    let field = match a.random_starts {
+        None => field,
+        Some(seed) => {
+            let k = a.robots.unwrap_or(field.starts().len());
+            let starts = crate::sim::localize::random_starts(&field, k, seed);
+            Field::new(field.name(), field.nodes().clone(), starts)
+                .map_err(|e| CliError::BadInput(format!("random starts: {e}")))?
+        }
+    };
     if a.qemu.is_some() {
+        if a.localize != Localize::Known {
+            return Err(CliError::BadInput(
+                "--localize works with the simulator only, not with --qemu".to_string(),
+            ));
+        }
         return crate::qemu::run(&field, a);
     }
     let (sim, outcome, wall) = simulate(&field, a)?;
     let r = report(&field, a, sim.bodies().timing(), &outcome, wall);
-    finish(&field, a, sim.env(), sim.bodies(), &r)
+    finish(&field, a, sim.env(), sim.bodies(), &r, sim.true_to_team())
 }
 
 /// Prints the report (or its JSON) and draws the map if asked: the end of
@@ -316,12 +404,13 @@ pub fn finish(
     env: &Environment,
     bodies: &Bodies,
     r: &Report,
+    to_team: core_algo::localize::Frame,
 ) -> Result<(), CliError> {
     if a.json {
         let text = serde_json::to_string(r).map_err(|e| CliError::Failed(e.to_string()))?;
         println!("{text}");
     } else {
-        print_report(env, bodies, r);
+        print_report(env, bodies, r, to_team);
     }
     if let Some(out) = &a.out {
         let known: Vec<(Pos, core_algo::geometry::Arms)> = env
@@ -332,7 +421,15 @@ pub fn finish(
         let map_field = Field::new(
             format!("{} (explored)", field.name()),
             known.into_iter().collect(),
-            field.starts().iter().take(r.robots).copied().collect(),
+            field
+                .starts()
+                .iter()
+                .take(r.robots)
+                .map(|s| crate::field::StartPose {
+                    pos: to_team.pos(s.pos),
+                    heading: to_team.heading(s.heading),
+                })
+                .collect(),
         )
         .map_err(|e| CliError::Failed(format!("explored map: {e}")))?;
         crate::render::render(&map_field, out).map_err(CliError::Failed)?;
@@ -340,7 +437,12 @@ pub fn finish(
     Ok(())
 }
 
-fn print_report(env: &Environment, bodies: &Bodies, r: &Report) {
+fn print_report(
+    env: &Environment,
+    bodies: &Bodies,
+    r: &Report,
+    to_team: core_algo::localize::Frame,
+) {
     let nodes: std::collections::BTreeMap<_, _> = env
         .map()
         .visited()
@@ -349,7 +451,7 @@ fn print_report(env: &Environment, bodies: &Bodies, r: &Report) {
     let marks: Vec<(Pos, char)> = bodies
         .bodies()
         .iter()
-        .map(|b| (b.pos, ascii::arrow(b.heading)))
+        .map(|b| (to_team.pos(b.pos), ascii::arrow(to_team.heading(b.heading))))
         .collect();
     println!(
         "explored map of {} ({} robots, strategy {}, seed {}):",
@@ -361,6 +463,20 @@ fn print_report(env: &Environment, bodies: &Bodies, r: &Report) {
         "complete: {} (map correct: {}, all home: {})",
         r.complete, r.map_correct, r.all_home
     );
+    if let Some(correct) = r.poses_correct {
+        let took = r
+            .localize_s
+            .map_or_else(|| "did not finish".to_string(), |s| format!("{s:.1} s"));
+        println!(
+            "localization {}: {took}, {} moves, poses correct: {correct}{}",
+            r.localize,
+            r.localize_moves.unwrap_or(0),
+            r.localize_failure
+                .as_ref()
+                .map(|f| format!(" (gave up: {f})"))
+                .unwrap_or_default()
+        );
+    }
     println!(
         "makespan {:.1} s, lower bound {:.1} s, ratio {:.2}; simulated in {:.3} s",
         r.makespan_s, r.lower_bound_s, r.ratio, r.wall_s

@@ -8,7 +8,9 @@ use crate::field::StartPose;
 use crate::handlers::{Chain, Inbound, Recipients, Relay};
 use crate::proxy::{ProxyEvent, RobotProxy};
 use core_algo::map::Bounds;
-use core_algo::protocol::message::{Broadcast, FailureKind, StrategyKind, StrategySettings};
+use core_algo::protocol::message::{
+    Broadcast, FailureKind, LocalizeMethod, StrategyKind, StrategySettings,
+};
 use core_algo::protocol::{Message, Pose};
 use core_algo::team::RobotId;
 
@@ -19,6 +21,7 @@ pub struct PhoneSide {
     starts: Vec<StartPose>,
     started: Vec<bool>,
     speed: u16,
+    localize: Option<LocalizeMethod>,
     events: Vec<ProxyEvent>,
 }
 
@@ -32,8 +35,18 @@ impl PhoneSide {
             started: vec![false; starts.len()],
             starts,
             speed,
+            localize: None,
             events: Vec::new(),
         }
+    }
+
+    /// Starts the robots without telling them their poses: they agree on a
+    /// frame by `method` first. The phone's map is then in the team frame
+    /// (robot 0's own frame), so `bounds` must cover the field wherever
+    /// robot 0 starts.
+    pub fn with_localize(mut self, method: Option<LocalizeMethod>) -> Self {
+        self.localize = method;
+        self
     }
 
     /// The model.
@@ -146,6 +159,14 @@ impl PhoneSide {
             team_size: self.starts.len() as u8,
             speed: self.speed,
         };
+        if let Some(method) = self.localize {
+            // The robot learns its home in the team frame by itself; its
+            // first node report tells the phone.
+            if let Some(p) = proxies.get_mut(id.index()) {
+                p.send(Message::StartLocalize { method, settings });
+            }
+            return;
+        }
         self.env.update_robot(id, |r| r.home = Some(s.pos));
         if let Some(p) = proxies.get_mut(id.index()) {
             p.send(Message::Start {

@@ -416,11 +416,19 @@ pub fn run(field: &Field, a: &ExploreArgs) -> Result<(), CliError> {
         &alive,
         done_at.unwrap_or(end).saturating_mul(scale),
         (frames, 0),
+        core_algo::localize::Frame::IDENTITY,
     );
     let mut r = report(field, a, nominal, &outcome, wall);
     r.robots = n;
     r.strategy = "firmware (minpos)".into();
-    finish(field, a, phone.env(), &bodies, &r)?;
+    finish(
+        field,
+        a,
+        phone.env(),
+        &bodies,
+        &r,
+        core_algo::localize::Frame::IDENTITY,
+    )?;
     if !bad_exit.is_empty() {
         return Err(CliError::Failed(bad_exit.join("; ")));
     }

@@ -126,3 +126,86 @@ fn no_arguments_runs_the_demo() {
     assert!(out.status.success());
     assert!(String::from_utf8_lossy(&out.stdout).contains("demo"));
 }
+
+#[test]
+fn explore_localizes_and_reports_the_time() {
+    let field = fields_dir().join("small/open-6x6.field");
+    for how in ["local", "global"] {
+        let out = conquest(&[
+            "explore",
+            field.to_str().unwrap(),
+            "--robots",
+            "3",
+            "--localize",
+            how,
+            "--json",
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(r["localize"], how);
+        assert_eq!(r["poses_correct"], true, "{r}");
+        assert_eq!(r["complete"], true, "{r}");
+        let took = r["localize_s"].as_f64().unwrap();
+        assert!(
+            took > 0.0 && took < r["makespan_s"].as_f64().unwrap(),
+            "{r}"
+        );
+    }
+    // Known poses: nothing to localize.
+    let out = conquest(&[
+        "explore",
+        field.to_str().unwrap(),
+        "--robots",
+        "2",
+        "--json",
+    ]);
+    let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(r["localize"], "known");
+    assert!(r["localize_s"].is_null() && r["poses_correct"].is_null());
+}
+
+#[test]
+fn explore_refuses_local_localization_from_scattered_starts() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("scattered.field");
+    let out = conquest(&[
+        "generate",
+        "open",
+        "--size",
+        "5x5",
+        "-o",
+        f.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&f).unwrap();
+    let kept: Vec<&str> = text.lines().filter(|l| !l.starts_with("start ")).collect();
+    let mut scattered = kept.join("\n");
+    scattered.push_str("\nstart 0 0 N\nstart 4 4 S\n");
+    std::fs::write(&f, scattered).unwrap();
+    let out = conquest(&["explore", f.to_str().unwrap(), "--localize", "local"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--localize global"), "{err}");
+    let out = conquest(&[
+        "explore",
+        f.to_str().unwrap(),
+        "--localize",
+        "global",
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(r["poses_correct"], true, "{r}");
+}

@@ -36,10 +36,13 @@ pub enum Report {
     /// No line ahead; stayed.
     Abyss,
     /// Standing on a node, its proximity sensors saw another robot come
-    /// close from `toward` and turn back (the passive side of a collision).
+    /// close and turn back (the passive side of a collision).
     Bumped {
-        /// Where the other robot came from, global frame.
-        toward: Heading,
+        /// Where the other robot came from, relative to the body like the
+        /// proximity ring sees it: north ahead, east to the right. Only the
+        /// robot's own agent knows how that lies in its frame (see
+        /// `docs/localization.md`).
+        side: Heading,
     },
     /// The body could not carry out the order (queue full, no calibration,
     /// a scan that found no valid node shape).
@@ -130,9 +133,9 @@ impl BodyMsg {
             BodyMsg::Report(Report::Collision) => put(b'C'),
             BodyMsg::Report(Report::Abyss) => put(b'A'),
             BodyMsg::Report(Report::Refused) => put(b'X'),
-            BodyMsg::Report(Report::Bumped { toward }) => {
+            BodyMsg::Report(Report::Bumped { side }) => {
                 put(b'B');
-                put(heading_letter(toward));
+                put(heading_letter(side));
             }
         }
         put(b'\n');
@@ -173,7 +176,7 @@ impl BodyMsg {
             [b'A'] => BodyMsg::Report(Report::Abyss),
             [b'X'] => BodyMsg::Report(Report::Refused),
             [b'B', h] => BodyMsg::Report(Report::Bumped {
-                toward: Heading::ALL
+                side: Heading::ALL
                     .into_iter()
                     .find(|x| heading_letter(*x) == *h)?,
             }),
@@ -367,10 +370,10 @@ mod tests {
             BodyMsg::Report(Report::Abyss),
             BodyMsg::Report(Report::Refused),
             BodyMsg::Report(Report::Bumped {
-                toward: Heading::West,
+                side: Heading::West,
             }),
             BodyMsg::Report(Report::Bumped {
-                toward: Heading::North,
+                side: Heading::North,
             }),
         ]
     }

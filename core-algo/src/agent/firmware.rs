@@ -130,7 +130,14 @@ impl Glue {
                 );
                 Event::Collision
             }
-            Report::Bumped { toward } => Event::Bumped { toward },
+            Report::Bumped { side } => {
+                // The proximity ring sees relative to the body; the agent
+                // thinks in its frame.
+                let (_, facing) = agent.pose();
+                Event::Bumped {
+                    toward: Heading::from_index(facing.index() + side.index()),
+                }
+            }
             Report::Abyss => {
                 self.push(out, Effect::Send(Message::Abyss { floor: 0b111 }));
                 Event::Rejected
@@ -189,7 +196,7 @@ impl Glue {
         let Ok(commands) = agent.handle(now, event) else {
             return;
         };
-        if matches!(event, Event::Start { .. }) {
+        if matches!(event, Event::Start { .. } | Event::StartLocalize { .. }) {
             // The initial scan classifies the start node (seed §2.5).
             self.push(out, Effect::Body(Order::Scan));
         }
@@ -201,6 +208,10 @@ impl Glue {
                     Effect::Send(node_hit(pos, heading, arms))
                 }
                 Command::Announce { target } => Effect::Send(Message::Intent { target }),
+                Command::Localize(news) => Effect::Send(Message::Relayed {
+                    origin: self.id,
+                    broadcast: Broadcast::Localize(news),
+                }),
                 Command::Finished => {
                     self.finished = true;
                     Effect::Send(self.status(agent, now))
@@ -246,7 +257,11 @@ pub fn agent_event(message: &Message) -> Option<Event> {
             ),
             Broadcast::Intent { target } => Event::Peer(origin, PeerNews::Intent { target }),
             Broadcast::Failure { .. } => Event::Peer(origin, PeerNews::Failed),
-            Broadcast::Localize(_) => return None,
+            Broadcast::Localize(news) => Event::Peer(origin, PeerNews::Localize(news)),
+        },
+        Message::StartLocalize { method, settings } => Event::StartLocalize {
+            method,
+            team: settings.team_size,
         },
         Message::Manual { on } => Event::Manual(if on {
             ManualOrder::Take

@@ -1,6 +1,7 @@
 //! What goes in and out of an agent: events, commands, modes, settings.
 
 use crate::geometry::{Arms, Heading, Pos, Turn};
+use crate::localize::{Localize, LocalizeMethod};
 use crate::map::MapError;
 use crate::team::RobotId;
 use crate::timing::Timing;
@@ -52,6 +53,8 @@ pub enum PeerNews {
     },
     /// It failed (link lost, stuck): forget its target.
     Failed,
+    /// Its part of agreeing on a frame (see `localize`).
+    Localize(Localize),
 }
 
 /// A manual order from the person steering this robot.
@@ -76,6 +79,15 @@ pub enum Event {
         pos: Pos,
         /// The start heading.
         heading: Heading,
+    },
+    /// Begin without a known pose: agree on a frame with a team of `team`
+    /// robots first, by `method`, then explore. The robot's own frame has
+    /// its start node at the origin, facing north.
+    StartLocalize {
+        /// Local (adjacent starts) or global (any starts).
+        method: LocalizeMethod,
+        /// The team to wait for, this robot included.
+        team: u8,
     },
     /// The robot stands on a node, with arms relative to its heading (bit 0
     /// ahead, 1 right, 2 behind, 3 left), as its floor sensors saw them.
@@ -123,6 +135,8 @@ pub enum Command {
         /// The frontier node.
         target: Option<Pos>,
     },
+    /// Tell the team this robot's part of localization (relayed).
+    Localize(Localize),
     /// This robot is home and the team is done.
     Finished,
     /// Stop everything (error).

@@ -31,6 +31,7 @@
 
 use crate::explore::{Context, Decision, Goal, MAX_ROBOTS, RobotView, Strategy};
 use crate::geometry::{Arms, Heading, Pos, Turn};
+use crate::localize::Localizer;
 use crate::map::{Block, KnownMap, MapError};
 use crate::path::{DistField, Flow, PlanCell};
 use crate::team::RobotId;
@@ -41,6 +42,7 @@ pub mod body;
 pub mod firmware;
 mod homecoming;
 mod io;
+mod localizing;
 
 pub use io::{AgentConfig, AgentError, Command, Event, ManualOrder, Mode, PeerNews};
 #[cfg(test)]
@@ -53,7 +55,7 @@ pub type Millis = u32;
 pub const MAX_REJECTS: u8 = 5;
 
 /// The most commands one event can produce.
-pub const MAX_COMMANDS: usize = 6;
+pub const MAX_COMMANDS: usize = 10;
 
 /// The commands one event produced, in the order to carry them out.
 pub type Commands = Vec<Command, MAX_COMMANDS>;
@@ -119,6 +121,7 @@ pub struct Agent<M, F, S, const K: usize> {
     now: Millis,
     last_said: Millis,
     ignored: u32,
+    localizer: Localizer,
 }
 
 impl<M, F, S, const K: usize> Agent<M, F, S, K>
@@ -159,6 +162,7 @@ where
             now: 0,
             last_said: 0,
             ignored: 0,
+            localizer: Localizer::new(id),
         }
     }
 
@@ -199,6 +203,11 @@ where
         &self.map
     }
 
+    /// The localization state (meaningful after a `StartLocalize`).
+    pub fn localizer(&self) -> &Localizer {
+        &self.localizer
+    }
+
     /// Events that did not fit the state and were ignored.
     pub fn ignored(&self) -> u32 {
         self.ignored
@@ -216,6 +225,8 @@ where
         let mut out = Commands::new();
         let result = match event {
             Event::Start { pos, heading } => self.on_start(pos, heading, &mut out),
+            Event::StartLocalize { method, team } => self.on_start_localize(method, team),
+            _ if self.mode == Mode::Localize => self.on_localize_event(event, &mut out),
             Event::NodeHit { relative } => self.on_node(relative, &mut out),
             Event::Collision => self.on_collision(&mut out),
             Event::Rejected => self.on_rejected(&mut out),
@@ -382,6 +393,16 @@ where
                 peer.failed = true;
                 peer.target = None;
             }
+            PeerNews::Localize(news) => {
+                // Kept even before this robot is started: a team mate may
+                // be ready first.
+                let mut steps = crate::localize::Steps::new();
+                self.localizer.on_news(id, news, &mut steps);
+                if self.mode == Mode::Localize {
+                    self.apply_localize(steps, out);
+                }
+                return Ok(());
+            }
         }
         // A robot waiting for work looks again when the map grew.
         if self.map_grew && matches!(self.motion, Motion::Standing) && self.mode != Mode::Manual {
@@ -395,7 +416,7 @@ where
     fn on_manual(&mut self, order: ManualOrder, out: &mut Commands) -> Result<(), AgentError> {
         match order {
             ManualOrder::Take => {
-                if matches!(self.mode, Mode::Idle | Mode::Error) {
+                if matches!(self.mode, Mode::Idle | Mode::Error | Mode::Localize) {
                     return Err(AgentError::Unexpected);
                 }
                 self.mode = Mode::Manual;
@@ -536,7 +557,10 @@ where
 
     /// Asks the strategy and acts on its answer. Only called while standing.
     fn decide(&mut self, out: &mut Commands) {
-        if matches!(self.mode, Mode::Idle | Mode::Error | Mode::Manual) {
+        if matches!(
+            self.mode,
+            Mode::Idle | Mode::Error | Mode::Manual | Mode::Localize
+        ) {
             return;
         }
         let (views, n) = self.views();

@@ -248,3 +248,109 @@ fn peer_reports_grow_the_map_and_conflicts_are_ignored() {
     assert!(a.handle(3, Event::Peer(RobotId(0), news)).is_err());
     assert!(a.handle(3, Event::Peer(RobotId(200), news)).is_err());
 }
+
+/// The broadcasts among `out`, as the phone would relay them.
+fn said(out: &Commands) -> StdVec<crate::localize::Localize> {
+    out.iter()
+        .filter_map(|c| match c {
+            Command::Localize(l) => Some(*l),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn two_robots_localize_by_one_contact_then_explore_in_robot_0s_frame() {
+    use crate::localize::{Localize, LocalizeMethod};
+    // Two nodes joined east–west; robot 0 on the west one facing north,
+    // robot 1 on the east one facing east (its own north is true east).
+    let (mut a0, mut a1) = (agent(0), agent(1));
+    let start = Event::StartLocalize {
+        method: LocalizeMethod::Local,
+        team: 2,
+    };
+    a0.handle(0, start).unwrap();
+    a1.handle(0, start).unwrap();
+    assert_eq!(a0.mode(), Mode::Localize);
+    let r0 = a0
+        .handle(
+            10,
+            Event::NodeHit {
+                relative: arms(&[E]).to_relative(N),
+            },
+        )
+        .unwrap();
+    let r1 = a1
+        .handle(
+            10,
+            Event::NodeHit {
+                relative: arms(&[W]).to_relative(E),
+            },
+        )
+        .unwrap();
+    assert_eq!(said(&r0), [Localize::Ready]);
+    assert!(
+        a1.handle(
+            20,
+            Event::Peer(RobotId(0), PeerNews::Localize(Localize::Ready))
+        )
+        .unwrap()
+        .is_empty()
+    );
+    // Everyone ready: robot 0's turn, its one run goes east.
+    let go = a0
+        .handle(
+            20,
+            Event::Peer(RobotId(1), PeerNews::Localize(said(&r1)[0])),
+        )
+        .unwrap();
+    assert_eq!(go.as_slice(), [Command::Turn(Turn::Right), Command::Move]);
+    // Robot 1 stands there: it sees robot 0 come from behind (its own
+    // south), robot 0 is turned back.
+    let passive = a1.handle(30, Event::Bumped { toward: S }).unwrap();
+    let active = a0.handle(40, Event::Collision).unwrap();
+    let [Localize::Bumped { by, .. }] = said(&passive)[..] else {
+        panic!("{passive:?}");
+    };
+    assert_eq!(by, RobotId(0));
+    assert!(matches!(said(&active)[..], [Localize::Collision { .. }]));
+    // Each hears the other's half: both join robot 0's frame and explore.
+    let out0 = a0
+        .handle(
+            50,
+            Event::Peer(RobotId(1), PeerNews::Localize(said(&passive)[0])),
+        )
+        .unwrap();
+    let out1 = a1
+        .handle(
+            50,
+            Event::Peer(RobotId(0), PeerNews::Localize(said(&active)[0])),
+        )
+        .unwrap();
+    assert!(said(&out0).contains(&Localize::Finished));
+    assert!(said(&out1).contains(&Localize::Finished));
+    assert_eq!((a0.mode(), a1.mode()), (Mode::Explore, Mode::Explore));
+    assert_eq!(a0.home(), Pos::new(0, 0));
+    assert_eq!(a1.home(), Pos::new(1, 0));
+    // Robot 1 reported its home in the team frame, arms turned into it.
+    assert!(out1.contains(&Command::Report {
+        pos: Pos::new(1, 0),
+        arms: arms(&[W]),
+        heading: E
+    }));
+    // Robot 0 learns robot 1's node from that report: its map is done.
+    let (pos, heading) = (Pos::new(1, 0), E);
+    a0.handle(
+        60,
+        Event::Peer(
+            RobotId(1),
+            PeerNews::NodeHit {
+                pos,
+                heading,
+                arms: arms(&[W]),
+            },
+        ),
+    )
+    .unwrap();
+    assert!(a0.map().is_complete());
+}

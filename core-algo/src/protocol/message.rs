@@ -182,20 +182,36 @@ pub enum FailureKind {
     InconsistentMap,
 }
 
-/// The local-localization exchange between robots that start on adjacent
-/// nodes (seed §4.2).
+/// The localization exchange between robots (seed §4.2–4.3; see
+/// `docs/localization.md`). Only the robot holding the turn moves, so every
+/// contact has one active robot (it drove) and one passive partner (it
+/// stood); each side reports its half and every robot joins the two halves.
+/// Poses are in the sender's own frame (its start node the origin, its
+/// start heading north).
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, Serialize, Deserialize)]
 pub enum Localize {
-    /// "I bumped into you from `pose`": places the receiver next to the
-    /// sender.
+    /// Active half of a contact: "driving from `pose` I touched a robot".
     Collision {
-        /// The sender's pose at the contact.
+        /// The sender's pose when it set off towards the partner.
         pose: Pose,
     },
-    /// Hands the localization token to the next robot.
-    Pass,
-    /// Localization finished; everybody may explore.
+    /// The sender's turn is over; it now stands at `pose`.
+    Pass {
+        /// Where it stands and faces.
+        pose: Pose,
+    },
+    /// The sender has joined the team frame and explores.
     Finished,
+    /// Passive half of a contact: "robot `by` touched me; it stood at
+    /// `seen`".
+    Bumped {
+        /// The robot that drove into the sender.
+        by: RobotId,
+        /// The driving robot's pose, the sender's own frame.
+        seen: Pose,
+    },
+    /// The sender scanned its start node and waits for its turn.
+    Ready,
 }
 
 /// A robot-to-robot broadcast, relayed by the phone inside
@@ -341,6 +357,26 @@ pub enum Message {
         /// What it said.
         broadcast: Broadcast,
     },
+
+    // ---- phone → robot, appended --------------------------------------
+    /// Start without a known pose: agree on a frame with the team first
+    /// (seed §4.2–4.3), then explore. The robot's own frame has its start
+    /// node at the origin and its start heading north.
+    StartLocalize {
+        /// Local (adjacent starts) or global (any starts).
+        method: LocalizeMethod,
+        /// How to explore afterwards; `team_size` is the team to wait for.
+        settings: StrategySettings,
+    },
+}
+
+/// How a team started with [`Message::StartLocalize`] finds its frame.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, Serialize, Deserialize)]
+pub enum LocalizeMethod {
+    /// The robots stand on adjacent nodes (seed §4.2).
+    Local,
+    /// The robots stand anywhere (seed §4.3).
+    Global,
 }
 
 /// Why a message could not be encoded or decoded.

@@ -69,8 +69,13 @@ fn broadcast() -> impl Strategy<Value = Broadcast> {
         )
         .prop_map(|kind| Broadcast::Failure { kind }),
         pose().prop_map(|pose| Broadcast::Localize(Localize::Collision { pose })),
-        Just(Broadcast::Localize(Localize::Pass)),
+        pose().prop_map(|pose| Broadcast::Localize(Localize::Pass { pose })),
         Just(Broadcast::Localize(Localize::Finished)),
+        (any::<u8>(), pose()).prop_map(|(by, seen)| Broadcast::Localize(Localize::Bumped {
+            by: RobotId(by),
+            seen
+        })),
+        Just(Broadcast::Localize(Localize::Ready)),
     ]
 }
 
@@ -160,6 +165,20 @@ pub(crate) fn message() -> impl Strategy<Value = Message> {
         (any::<u8>(), broadcast()).prop_map(|(o, broadcast)| Message::Relayed {
             origin: RobotId(o),
             broadcast
+        }),
+        (any::<bool>(), any::<u8>(), any::<u16>()).prop_map(|(global, team_size, speed)| {
+            Message::StartLocalize {
+                method: if global {
+                    LocalizeMethod::Global
+                } else {
+                    LocalizeMethod::Local
+                },
+                settings: StrategySettings {
+                    kind: StrategyKind::Coordinated,
+                    team_size,
+                    speed,
+                },
+            }
         }),
     ]
 }
@@ -316,6 +335,21 @@ fn largest_messages_fit_the_bound() {
         Message::Relayed {
             origin: RobotId(0xFF),
             broadcast: Broadcast::Localize(Localize::Collision { pose: far }),
+        },
+        Message::Relayed {
+            origin: RobotId(0xFF),
+            broadcast: Broadcast::Localize(Localize::Bumped {
+                by: RobotId(0xFF),
+                seen: far,
+            }),
+        },
+        Message::StartLocalize {
+            method: LocalizeMethod::Global,
+            settings: StrategySettings {
+                kind: StrategyKind::Remote,
+                team_size: 0xFF,
+                speed: u16::MAX,
+            },
         },
         Message::Start {
             pose: far,

@@ -98,6 +98,12 @@ impl<T: Read + Write + Send> LegacyRobot<T> {
                             proximity: 0,
                         })));
                 }
+                Command::Localize(news) => {
+                    self.events.push(ProxyEvent::Message(Message::Relayed {
+                        origin: self.id,
+                        broadcast: core_algo::protocol::Broadcast::Localize(news),
+                    }))
+                }
                 Command::Stop => {}
             }
         }

@@ -308,10 +308,11 @@ impl Bodies {
                     .iter()
                     .enumerate()
                     .find(|(j, o)| *j != i && o.occupied() == Some(to))
-                    .map(|(j, o)| (j, o.alive && o.is_idle()));
+                    .map(|(j, o)| (j, o.alive && o.is_idle(), o.heading));
                 let blocked = blocker.is_some();
-                if let (Some((j, true)), Some(toward)) = (blocker, from_heading(to, from)) {
-                    reports.push((RobotId(j as u8), Report::Bumped { toward }));
+                if let (Some((j, true, facing)), Some(toward)) = (blocker, from_heading(to, from)) {
+                    let side = Heading::from_index(toward.index() + 4 - facing.index());
+                    reports.push((RobotId(j as u8), Report::Bumped { side }));
                 }
                 let edge = self.edge_ms(i);
                 if let Some(b) = self.bodies.get_mut(i) {

@@ -14,6 +14,7 @@
 
 pub mod body;
 pub mod channel;
+pub mod localize;
 pub mod robot;
 
 use crate::environment::Environment;
@@ -23,8 +24,11 @@ use crate::proxy::{RobotProxy, SimRobot};
 use body::{Bodies, Order};
 use channel::{ChannelFaults, ChannelStats};
 use core_algo::agent::AgentConfig;
+use core_algo::agent::Mode;
 use core_algo::geometry::Pos;
+use core_algo::localize::{Failure, Progress};
 use core_algo::map::Bounds;
+use core_algo::protocol::message::LocalizeMethod;
 use core_algo::protocol::{LinkConfig, MAX_FRAME_LEN, Message};
 use core_algo::team::RobotId;
 use core_algo::timing::Timing;
@@ -60,6 +64,9 @@ pub struct SimConfig {
     pub max_time_ms: u32,
     /// Line speed, motor steps per second.
     pub speed: u32,
+    /// `None`: the phone gives every robot its start pose (the 2010
+    /// system's way); otherwise the robots localize by this method first.
+    pub localize: Option<LocalizeMethod>,
 }
 
 impl Default for SimConfig {
@@ -72,6 +79,7 @@ impl Default for SimConfig {
             tick_ms: 50,
             max_time_ms: 3_600_000,
             speed: core_algo::timing::DEFAULT_SPEED_STEPS_PER_S,
+            localize: None,
         }
     }
 }
@@ -88,6 +96,13 @@ pub enum SimError {
     },
     /// No robot at all.
     NoRobots,
+    /// Local localization needs starts on a connected set of neighbours.
+    StartsNotAdjacent,
+    /// Localization works with teams of up to `max` robots.
+    TeamTooLarge {
+        /// The most robots localization handles.
+        max: usize,
+    },
 }
 
 impl std::fmt::Display for SimError {
@@ -100,6 +115,14 @@ impl std::fmt::Display for SimError {
                 )
             }
             SimError::NoRobots => write!(f, "expected at least one robot"),
+            SimError::StartsNotAdjacent => write!(
+                f,
+                "local localization needs start nodes that form one connected set of \
+                 neighbours joined by lines; use --localize global for other starts"
+            ),
+            SimError::TeamTooLarge { max } => {
+                write!(f, "localization works with teams of up to {max} robots")
+            }
         }
     }
 }
@@ -119,6 +142,7 @@ pub struct Simulation {
     paused: bool,
     done_at: Option<u32>,
     linger: bool,
+    localized_at: Vec<Option<u32>>,
 }
 
 /// The map window every participant uses: the field's bounding box with a
@@ -157,7 +181,21 @@ impl Simulation {
             .take(robots)
             .map(|s| (s.pos, s.heading))
             .collect();
-        let bounds = window(field);
+        let team_starts: Vec<_> = field.starts().iter().take(robots).copied().collect();
+        if config.localize.is_some() && robots > core_algo::explore::MAX_ROBOTS {
+            return Err(SimError::TeamTooLarge {
+                max: core_algo::explore::MAX_ROBOTS,
+            });
+        }
+        if config.localize == Some(LocalizeMethod::Local)
+            && !localize::starts_adjacent(field, &team_starts)
+        {
+            return Err(SimError::StartsNotAdjacent);
+        }
+        let bounds = match config.localize {
+            None => window(field),
+            Some(_) => localize::team_window(field),
+        };
         let agent_config = AgentConfig {
             timing,
             ..config.agent
@@ -192,12 +230,14 @@ impl Simulation {
             proxies,
             phone: PhoneSide::new(
                 bounds,
-                field.starts().iter().take(robots).copied().collect(),
+                team_starts,
                 config.speed.min(u32::from(u16::MAX)) as u16,
-            ),
+            )
+            .with_localize(config.localize),
             paused: false,
             done_at: None,
             linger: false,
+            localized_at: vec![None; robots],
             field: field.clone(),
             config,
         })
@@ -274,12 +314,34 @@ impl Simulation {
         self.done_at.is_some() || self.now >= self.config.max_time_ms
     }
 
-    /// Every robot is dead or has said the team is done and stands still.
+    /// Every robot is dead or has said the team is done and stands still;
+    /// or every living robot gave up (nothing will happen any more).
     fn team_done(&self) -> bool {
-        self.firmware
-            .iter()
-            .zip(self.bodies.bodies())
-            .all(|(f, b)| f.is_dead() || (f.finished() && b.is_idle()))
+        let robots = || self.firmware.iter().zip(self.bodies.bodies());
+        robots().all(|(f, b)| f.is_dead() || (f.finished() && b.is_idle()))
+            || robots()
+                .all(|(f, b)| f.is_dead() || (f.agent().mode() == Mode::Error && b.is_idle()))
+    }
+
+    /// Notes when each robot joined the team frame.
+    fn note_localized(&mut self) {
+        if self.config.localize.is_none() {
+            return;
+        }
+        for (at, f) in self.localized_at.iter_mut().zip(&self.firmware) {
+            if at.is_none() && matches!(f.agent().localizer().progress(), Progress::Done(_)) {
+                *at = Some(self.now);
+            }
+        }
+    }
+
+    /// How the true frame maps into the team's frame: robot 0's own frame
+    /// when localizing, the true frame itself otherwise.
+    pub fn true_to_team(&self) -> core_algo::localize::Frame {
+        match self.config.localize {
+            None => core_algo::localize::Frame::IDENTITY,
+            Some(_) => localize::true_to_team(self.field.starts()),
+        }
     }
 
     /// Advances to the next event; returns `false` once the run is over.
@@ -344,6 +406,7 @@ impl Simulation {
             }
         }
         self.phone.process(now, &mut self.proxies);
+        self.note_localized();
         if self.done_at.is_none() && self.team_done() {
             self.done_at = Some(now);
         }
@@ -421,20 +484,24 @@ impl Simulation {
             up.sent += u.sent;
             up.lost += u.lost;
         }
-        outcome_of(
+        let mut o = outcome_of(
             &self.field,
             self.phone.env(),
             &self.bodies,
             &alive,
             self.done_at.unwrap_or(self.now),
             (down.sent + up.sent, down.lost + up.lost),
-        )
+            self.true_to_team(),
+        );
+        o.localization = self.config.localize.map(|_| self.localization());
+        o
     }
 }
 
 /// The result of a run on `field` from the phone's model `env` and the
 /// `bodies` on the true field: shared by the simulator and the runs with
-/// emulated firmware (`crate::qemu`). `frames` is (sent, lost).
+/// emulated firmware (`crate::qemu`). `frames` is (sent, lost); `to_team`
+/// maps the true frame into the team's (the identity with known poses).
 pub fn outcome_of(
     field: &Field,
     env: &Environment,
@@ -442,12 +509,13 @@ pub fn outcome_of(
     alive: &[bool],
     makespan_ms: u32,
     frames: (u64, u64),
+    to_team: core_algo::localize::Frame,
 ) -> Outcome {
     let map = env.map();
     let map_correct = field
         .nodes()
         .iter()
-        .all(|(p, a)| map.known_arms(*p) == Some(*a));
+        .all(|(p, a)| map.known_arms(to_team.pos(*p)) == Some(a.rotated_cw(to_team.quarter_turns)));
     let all_home = bodies
         .bodies()
         .iter()
@@ -483,7 +551,59 @@ pub fn outcome_of(
         relayed: stats.relayed,
         conflicts: stats.conflicts,
         unhandled: stats.unhandled,
+        localization: None,
     }
+}
+
+impl Simulation {
+    /// How localization went, checked against the truth.
+    fn localization(&self) -> Localization {
+        let starts = self.field.starts();
+        let mut poses_correct = true;
+        let mut failure = None;
+        for (i, f) in self.firmware.iter().enumerate() {
+            match f.agent().localizer().progress() {
+                Progress::Done(frame) => {
+                    poses_correct &= localize::expected_frame(starts, i) == Some(frame);
+                }
+                Progress::Failed(why) => {
+                    poses_correct = false;
+                    failure.get_or_insert(why);
+                }
+                Progress::Running => poses_correct = false,
+            }
+        }
+        let localized_ms = self
+            .localized_at
+            .iter()
+            .copied()
+            .collect::<Option<Vec<u32>>>()
+            .and_then(|t| t.into_iter().max());
+        Localization {
+            localized_ms,
+            poses_correct,
+            failure,
+            moves: self
+                .firmware
+                .iter()
+                .map(|f| f.agent().localizer().steps())
+                .sum(),
+        }
+    }
+}
+
+/// How localization went in a run.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Localization {
+    /// When the last robot joined the team frame, ms (`None`: not all
+    /// did).
+    pub localized_ms: Option<u32>,
+    /// Every robot ended with its true pose relative to robot 0.
+    pub poses_correct: bool,
+    /// Why localization gave up, if it did.
+    pub failure: Option<Failure>,
+    /// Moves the team made while localizing.
+    pub moves: u32,
 }
 
 /// Per-robot figures of a run.
@@ -534,4 +654,6 @@ pub struct Outcome {
     pub conflicts: u64,
     /// Messages no handler took.
     pub unhandled: u64,
+    /// How localization went (`None`: start poses were given).
+    pub localization: Option<Localization>,
 }
