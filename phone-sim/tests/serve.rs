@@ -227,3 +227,95 @@ fn the_websocket_sends_a_snapshot_then_frames_and_answers_errors() {
     assert_eq!(errors, 1);
     assert!(frames >= 1);
 }
+
+/// Real robots: `serve --connect` drives a robot on a serial port (one end
+/// of a pseudo-terminal pair; a robot-side link on the other end), shows
+/// what it reports, and passes a person's commands on to it.
+#[cfg(unix)]
+#[test]
+fn serve_connect_shows_a_real_robot_and_passes_commands_on() {
+    use core_algo::geometry::Arms;
+    use core_algo::protocol::message::{FirmwareVersion, RobotState, Status};
+    use core_algo::protocol::{Event, Link, LinkConfig, MAX_FRAME_LEN, Message};
+    use core_algo::team::RobotId;
+    use serialport::SerialPort;
+    use std::io::{Read, Write};
+    use std::time::Instant;
+
+    let (mut master, slave) = serialport::TTYPort::pair().expect("pty pair");
+    let name = slave.name().expect("pty name");
+    master
+        .set_timeout(Duration::from_millis(5))
+        .expect("timeout");
+    let robot = std::thread::spawn(move || {
+        let mut link = Link::new(LinkConfig::default(), RobotId(0), 0x2468_1357);
+        link.send(Message::Hello {
+            robot: RobotId(0),
+            firmware: FirmwareVersion {
+                major: 0,
+                minor: 1,
+                patch: 0,
+            },
+        })
+        .expect("queue");
+        let t0 = Instant::now();
+        let (mut started, mut manual) = (None, false);
+        let mut buf = [0u8; 256];
+        let mut frame = [0u8; MAX_FRAME_LEN];
+        while t0.elapsed() < Duration::from_secs(30) && !manual {
+            let now = t0.elapsed().as_millis() as u32;
+            if let Ok(n) = master.read(&mut buf) {
+                link.on_bytes(now, &buf[..n]);
+            }
+            link.tick(now);
+            while let Some(e) = link.poll_event() {
+                match e {
+                    Event::Received {
+                        message: Message::Start { pose, .. },
+                        ..
+                    } => {
+                        started = Some(pose);
+                        link.send(Message::NodeHit {
+                            pose,
+                            arms: Arms::from_bits(0b0011),
+                        })
+                        .expect("queue");
+                        link.send(Message::Status(Status {
+                            uptime_ms: now,
+                            pose,
+                            state: RobotState::Stopped,
+                            floor: 0,
+                            proximity: 0,
+                        }))
+                        .expect("queue");
+                    }
+                    Event::Received {
+                        message: Message::Manual { on: true },
+                        ..
+                    } => manual = true,
+                    _ => {}
+                }
+            }
+            while let Some(n) = link.poll_transmit(now, &mut frame) {
+                master.write_all(&frame[..n]).expect("write");
+            }
+        }
+        (started, manual)
+    });
+    let s = Server::start(&["--connect", &name, "--field", &open6()]);
+    let st = s.wait_for(Duration::from_secs(20), |st| {
+        st["robots"][0]["explored"] == 1 && st["robots"][0]["link_up"] == true
+    });
+    assert_eq!(st["run"]["mode"], "robots");
+    assert_eq!(st["status"], "running");
+    assert_eq!(st["robots"].as_array().map(Vec::len), Some(1));
+    assert_eq!(st["robots"][0]["node"], serde_json::json!([0, 0]));
+    assert_eq!(st["nodes"][0], serde_json::json!([0, 0, 3, 1]));
+    // A new simulation makes no sense here; manual control does.
+    let (status, e) = s.control(r#"{"type":"start"}"#);
+    assert_eq!(status, 400, "{e}");
+    assert_eq!(s.control(r#"{"type":"manual","robot":0,"on":true}"#).0, 200);
+    let (started, manual) = robot.join().expect("robot thread");
+    assert!(started.is_some(), "the robot was started");
+    assert!(manual, "the robot heard the manual order");
+}
