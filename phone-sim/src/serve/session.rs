@@ -188,10 +188,9 @@ impl Session {
                 Ok(())
             }
             Command::Stop => {
+                // A finished run keeps its result; the world stops anyway.
                 self.team.pause(true);
-                if self.status != RunStatus::Finished {
-                    self.status = RunStatus::Stopped;
-                }
+                self.status = RunStatus::Stopped;
                 self.anchor = None;
                 Ok(())
             }
