@@ -106,6 +106,14 @@ fn a_simulation_runs_to_the_end_then_a_robot_is_steered_by_hand() {
         st["robots"][2]["node"] == serde_json::json!([1, 0]) && st["robots"][2]["state"] == "finish"
             || st["robots"][2]["state"] == "finished"
     });
+    // Stop freezes the world; the result stays.
+    assert_eq!(s.control(r#"{"type":"stop"}"#).0, 200);
+    let a = s.get_json("/api/state");
+    std::thread::sleep(Duration::from_millis(300));
+    let b = s.get_json("/api/state");
+    assert_eq!(b["status"], "stopped");
+    assert_eq!(a["t_ms"], b["t_ms"]);
+    assert_eq!(b["result"]["complete"], true);
 }
 
 #[test]
