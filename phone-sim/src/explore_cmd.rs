@@ -69,6 +69,11 @@ pub struct ExploreArgs {
     /// `--localize global`.
     #[arg(long)]
     pub random_starts: Option<u64>,
+    /// Give up after this much simulated time, seconds (default: an hour,
+    /// or five times the lower bound on fields that need longer; three
+    /// times that when localizing).
+    #[arg(long)]
+    pub max_time_s: Option<f64>,
     /// Print one JSON object instead of the report.
     #[arg(long)]
     pub json: bool,
@@ -289,6 +294,7 @@ pub fn build(field: &Field, a: &ExploreArgs) -> Result<Simulation, CliError> {
         },
         speed: a.speed.clamp(1, 2000),
         localize: a.localize.method(),
+        max_time_ms: max_time_ms(field, robots, a),
         ..SimConfig::default()
     };
     let name = a.strategy.clone();
@@ -304,6 +310,23 @@ pub fn build(field: &Field, a: &ExploreArgs) -> Result<Simulation, CliError> {
         config,
     )
     .map_err(|e| CliError::BadInput(e.to_string()))
+}
+
+/// How long a run may take before it is given up, ms: `--max-time-s`, or
+/// enough for big fields (the fixed hour used to cut 64×64 mazes short of
+/// their own lower bound).
+fn max_time_ms(field: &Field, robots: usize, a: &ExploreArgs) -> u32 {
+    let secs = a.max_time_s.unwrap_or_else(|| {
+        let k = robots.clamp(1, field.starts().len().max(1));
+        let timing = Timing::from_hardware(u32::from(field.spacing_mm()), a.speed.clamp(1, 2000));
+        let room = (5.0 * lower_bound_s(field, k, timing)).max(3600.0);
+        if a.localize.method().is_some() {
+            3.0 * room
+        } else {
+            room
+        }
+    });
+    (secs * 1000.0).clamp(1000.0, f64::from(u32::MAX / 2)) as u32
 }
 
 /// The lower bound of the makespan with return home (edge time only) for
