@@ -67,7 +67,6 @@ fn project_fields_explore_completely() {
 /// other: they must come home in the right order for their packed start
 /// nodes.
 #[test]
-#[ignore = "known gap: homecoming deadlock in a corridor of packed start nodes"]
 fn random_field_homecoming_in_a_corridor() {
     // Found by the property test (unseeded run on CI): three robots.
     let f = Kind::Random.generate(4, 8, 9739834593667372097);
