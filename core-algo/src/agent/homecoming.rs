@@ -45,7 +45,11 @@ where
                 let reached = goal.is_some()
                     && field
                         .compute(&self.map, self.config.timing, q.pos, q.heading, |v, _| {
-                            if Some(v) == goal { Flow::Stop } else { Flow::Continue }
+                            if Some(v) == goal {
+                                Flow::Stop
+                            } else {
+                                Flow::Continue
+                            }
                         })
                         .is_ok();
                 goal.filter(|_| reached)
