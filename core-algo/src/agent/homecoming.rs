@@ -139,49 +139,59 @@ where
         // (field in `rest`, peer home index, peer goes first) of every
         // returning team mate.
         let mut pending: Vec<(usize, usize, bool), MAX_ROBOTS> = Vec::new();
-        let mut homes: Vec<Pos, MAX_ROBOTS> = Vec::new();
-        for (i, p) in self.peers.iter().enumerate() {
-            if i == me || !p.known || p.failed {
-                continue;
+        let peers = &self.peers;
+        let homes: Vec<Pos, MAX_ROBOTS> = peers
+            .iter()
+            .enumerate()
+            .filter(|(i, p)| *i != me && p.known && !p.failed)
+            .map(|(_, p)| p.home)
+            .collect();
+        // Plans the way home of every returning team mate that goes first
+        // (`firsts`) or of every other one: the others' ways only matter
+        // once we know we are gated, so most decisions never plan them.
+        let plan = |firsts: bool,
+                    pending: &mut Vec<(usize, usize, bool), MAX_ROBOTS>,
+                    rest: &mut [DistField<F>]| {
+            for (i, p) in peers.iter().enumerate() {
+                if i == me || !p.known || p.failed {
+                    continue;
+                }
+                // The deeper home fills first, else a robot already home
+                // would plug a corridor for good. Depth is the home's total
+                // distance to every node of the complete map (a dead end
+                // scores high, a junction low): the same for every robot and
+                // independent of where anyone stands, so it is a total order
+                // (ties by id) and no two robots ever wait for each other,
+                // nor flip their minds as they move.
+                let theirs = depth.get(i).copied().unwrap_or(0);
+                let first =
+                    (theirs, core::cmp::Reverse(i)) > (my_depth, core::cmp::Reverse(me));
+                if first != firsts {
+                    continue;
+                }
+                let slot = pending.len();
+                let (false, Some(h), Some(field)) =
+                    (p.pos == p.home, bounds.index(p.home), rest.get_mut(slot))
+                else {
+                    continue;
+                };
+                let result = field.compute(map, timing, p.pos, p.heading, |v, _| {
+                    if v == h { Flow::Stop } else { Flow::Continue }
+                });
+                if result.is_ok() {
+                    let _ = pending.push((slot, h, first));
+                }
             }
-            let _ = homes.push(p.home);
-            let slot = pending.len();
-            let (false, Some(h), Some(field)) =
-                (p.pos == p.home, bounds.index(p.home), rest.get_mut(slot))
-            else {
-                continue;
-            };
-            // The deeper home fills first, else a robot already home would
-            // plug a corridor for good. Depth is the home's total distance
-            // to every node of the complete map (a dead end scores high, a
-            // junction low): the same for every robot and independent of
-            // where anyone stands, so it is a total order (ties by id) and
-            // no two robots ever wait for each other, nor flip their minds
-            // as they move.
-            let theirs = depth.get(i).copied().unwrap_or(0);
-            let first = (theirs, core::cmp::Reverse(i)) > (my_depth, core::cmp::Reverse(me));
-            let result = field.compute(map, timing, p.pos, p.heading, |v, _| {
-                if v == h { Flow::Stop } else { Flow::Continue }
-            });
-            if result.is_ok() {
-                let _ = pending.push((slot, h, first));
-            }
-        }
-        let rest = &*rest;
-        let on_way = |v: usize, only_first: bool| {
-            pending
-                .iter()
-                .filter(|e| e.2 || !only_first)
-                .any(|&(s, h, _)| rest.get(s).is_some_and(|f| f.path_passes(map, h, v)))
         };
-        let on_someones_way = |v: usize| on_way(v, false);
-        let gated = on_way(my_home, true);
+        plan(true, &mut pending, rest);
+        let gated = pending.iter().any(|&(s, h, _)| {
+            rest.get(s).is_some_and(|f| f.path_passes(map, h, my_home))
+        });
         // Never wait for ever: after a while without a team mate coming
         // home, go and let the make-way behaviour sort it out. Waiting
         // for several team mates in turn is progress, not a deadlock.
         let now = self.now;
-        let home_count = self
-            .peers
+        let home_count = peers
             .iter()
             .filter(|p| p.known && !p.failed && p.pos == p.home)
             .count();
@@ -197,6 +207,13 @@ where
             }
             return decision;
         }
+        plan(false, &mut pending, rest);
+        let rest = &*rest;
+        let on_someones_way = |v: usize| {
+            pending
+                .iter()
+                .any(|&(s, h, _)| rest.get(s).is_some_and(|f| f.path_passes(map, h, v)))
+        };
         // Gated: find the nearest node off every returning robot's way that
         // is nobody's home, and go there (or stay, if here).
         let mut spot = None;
