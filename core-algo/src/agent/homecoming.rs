@@ -164,8 +164,7 @@ where
                 // (ties by id) and no two robots ever wait for each other,
                 // nor flip their minds as they move.
                 let theirs = depth.get(i).copied().unwrap_or(0);
-                let first =
-                    (theirs, core::cmp::Reverse(i)) > (my_depth, core::cmp::Reverse(me));
+                let first = (theirs, core::cmp::Reverse(i)) > (my_depth, core::cmp::Reverse(me));
                 if first != firsts {
                     continue;
                 }
@@ -184,9 +183,9 @@ where
             }
         };
         plan(true, &mut pending, rest);
-        let gated = pending.iter().any(|&(s, h, _)| {
-            rest.get(s).is_some_and(|f| f.path_passes(map, h, my_home))
-        });
+        let gated = pending
+            .iter()
+            .any(|&(s, h, _)| rest.get(s).is_some_and(|f| f.path_passes(map, h, my_home)));
         // Never wait for ever: after a while without a team mate coming
         // home, go and let the make-way behaviour sort it out. Waiting
         // for several team mates in turn is progress, not a deadlock.
