@@ -74,6 +74,11 @@ pub struct ExploreArgs {
     /// times that when localizing).
     #[arg(long)]
     pub max_time_s: Option<f64>,
+    /// Pace the run to the wall clock: FACTOR simulated seconds per wall
+    /// second (1 without a value), with a progress bar of the nodes known.
+    #[arg(long, value_name = "FACTOR", num_args = 0..=1, default_missing_value = "1",
+          value_parser = parse_factor)]
+    pub realtime: Option<f64>,
     /// Print one JSON object instead of the report.
     #[arg(long)]
     pub json: bool,
@@ -148,6 +153,17 @@ fn parse_localize(s: &str) -> Result<Localize, String> {
         "global" => Ok(Localize::By(LocalizeMethod::Global)),
         _ => Err(format!("expected known, local or global, found '{s}'")),
     }
+}
+
+fn parse_factor(s: &str) -> Result<f64, String> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| format!("expected a factor, found '{s}'"))?;
+    if !(v.is_finite() && v > 0.0 && v <= 1e6) {
+        return Err(format!("expected a factor in (0, 1000000], found '{s}'"));
+    }
+    Ok(v)
 }
 
 fn parse_kill(s: &str) -> Result<(RobotId, u32), String> {
@@ -260,12 +276,71 @@ pub struct Report {
     pub per_robot: Vec<RobotReport>,
 }
 
-/// Runs a simulation of `field` as the arguments say.
+/// Runs a simulation of `field` as the arguments say (paced to the wall
+/// clock with `--realtime`).
 pub fn simulate(field: &Field, a: &ExploreArgs) -> Result<(Simulation, Outcome, f64), CliError> {
     let mut sim = build(field, a)?;
     let t0 = std::time::Instant::now();
-    let outcome = sim.run();
+    let outcome = match a.realtime {
+        Some(factor) => run_paced(&mut sim, field.nodes().len(), factor),
+        None => sim.run(),
+    };
     Ok((sim, outcome, t0.elapsed().as_secs_f64()))
+}
+
+/// Runs `sim` no faster than `factor` simulated seconds per wall second:
+/// before each step it sleeps until the wall clock has caught up with the
+/// simulated time, so a person can watch robots move at their real pace
+/// (or faster, or slower). The bar counts the nodes the phone knows of the
+/// field's `nodes`; it draws on stderr and hides itself when that is not a
+/// terminal. Pacing only delays steps, so the run is the same as unpaced.
+pub fn run_paced(sim: &mut Simulation, nodes: usize, factor: f64) -> Outcome {
+    use indicatif::{ProgressBar, ProgressStyle};
+    use std::time::{Duration, Instant};
+    let bar = ProgressBar::new(nodes as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} nodes {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+    );
+    let start = Instant::now();
+    let mut drawn = start;
+    let draw = |sim: &Simulation, bar: &ProgressBar| {
+        let known = sim
+            .env()
+            .map()
+            .visited()
+            .filter(|(_, c)| c.arms().is_some())
+            .count();
+        bar.set_position(known as u64);
+        let home = sim
+            .bodies()
+            .bodies()
+            .iter()
+            .zip(sim.field().starts())
+            .filter(|(b, s)| b.pos == s.pos)
+            .count();
+        bar.set_message(format!(
+            "simulated {:.1} s, {home}/{} robots home",
+            f64::from(sim.now()) / 1000.0,
+            sim.bodies().bodies().len()
+        ));
+    };
+    loop {
+        let due = Duration::from_secs_f64(f64::from(sim.now()) / 1000.0 / factor);
+        if let Some(wait) = due.checked_sub(start.elapsed()) {
+            std::thread::sleep(wait);
+        }
+        if !sim.step() {
+            break;
+        }
+        if drawn.elapsed() >= Duration::from_millis(100) {
+            drawn = Instant::now();
+            draw(sim, &bar);
+        }
+    }
+    draw(sim, &bar);
+    bar.finish();
+    sim.outcome()
 }
 
 /// Sets up (without running) a simulation of `field` as the arguments say.

@@ -209,3 +209,27 @@ fn explore_refuses_local_localization_from_scattered_starts() {
     let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(r["poses_correct"], true, "{r}");
 }
+
+/// `--realtime` only delays steps: a paced run reports exactly what the
+/// unpaced run does (fast factor, so the test does not wait).
+#[test]
+fn realtime_pacing_gives_the_same_run() {
+    let field = fields_dir().join("small/open-6x6.field");
+    let field = field.to_str().unwrap();
+    let result = |extra: &[&str]| {
+        let mut args = vec!["explore", field, "--robots", "2", "--json"];
+        args.extend_from_slice(extra);
+        let out = conquest(&args);
+        assert!(out.status.success(), "{out:?}");
+        let mut v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        v.as_object_mut().unwrap().remove("wall_s");
+        v
+    };
+    let plain = result(&[]);
+    assert_eq!(plain["complete"], true);
+    assert_eq!(result(&["--realtime", "100000"]), plain);
+    for bad in ["0", "-1", "fast", "inf"] {
+        let out = conquest(&["explore", field, "--realtime", bad]);
+        assert_eq!(out.status.code(), Some(2), "--realtime {bad}: {out:?}");
+    }
+}

@@ -29,10 +29,44 @@ where
             self.mode = Mode::Return;
             self.finished_sent = false;
         }
-        let occupied = |p: Pos| {
+        // The robot that bumped us stands on the node it came from; its way
+        // (to its target, else home) tells where not to escape to: straight
+        // on along its way, it would only bump us again, and push us along
+        // its way into the packed homes.
+        let bounds = self.map.bounds();
+        let bumper = self.pos.step(toward).and_then(|from| {
             self.peers
                 .iter()
-                .any(|q| q.known && !q.failed && q.pos == p)
+                .find(|q| q.known && !q.failed && q.pos == from)
+        });
+        let way = match (bumper, self.fields.first_mut()) {
+            (Some(q), Some(field)) => {
+                let goal = bounds.index(q.target.unwrap_or(q.home));
+                let reached = goal.is_some()
+                    && field
+                        .compute(&self.map, self.config.timing, q.pos, q.heading, |v, _| {
+                            if Some(v) == goal {
+                                Flow::Stop
+                            } else {
+                                Flow::Continue
+                            }
+                        })
+                        .is_ok();
+                goal.filter(|_| reached)
+            }
+            _ => None,
+        };
+        let (map, fields, peers, me) = (&self.map, &self.fields, &self.peers, self.id.index());
+        let on_way = |v: Option<usize>| match (way, v, fields.first()) {
+            (Some(goal), Some(v), Some(field)) => field.path_passes(map, goal, v),
+            _ => false,
+        };
+        let occupied = |p: Pos| peers.iter().any(|q| q.known && !q.failed && q.pos == p);
+        let someones_home = |p: Pos| {
+            peers
+                .iter()
+                .enumerate()
+                .any(|(i, q)| i != me && q.known && !q.failed && q.home == p)
         };
         let candidates = [
             toward.opposite(),
@@ -42,7 +76,14 @@ where
         let escape = candidates
             .into_iter()
             .filter(|h| self.can_move(*h))
-            .min_by_key(|h| self.pos.step(*h).is_some_and(occupied));
+            .min_by_key(|h| {
+                let next = self.pos.step(*h);
+                (
+                    next.is_some_and(occupied),
+                    on_way(next.and_then(|p| bounds.index(p))),
+                    next.is_some_and(someones_home),
+                )
+            });
         let Some(h) = escape else {
             return Err(AgentError::Unexpected);
         };
@@ -56,9 +97,9 @@ where
     }
 
     /// Homecoming without deadlock: robots cannot pass each other on a
-    /// line, so a robot whose home lies on a returning team mate's way home
-    /// waits off every returning team mate's way, as near to its home as it
-    /// can, until they are in. Needs one planner field per team mate
+    /// line, so a robot whose home lies on the way home of a returning team
+    /// mate with a deeper home waits off every returning team mate's way,
+    /// as near to its home as it can, until they are in. Needs one planner field per team mate
     /// (`K > 1`); with a single field the decision is kept as it is.
     pub(super) fn keep_out_of_the_way(&mut self, decision: Decision) -> Decision {
         let bounds = self.map.bounds();
@@ -71,44 +112,92 @@ where
         let Some((mine, rest)) = self.fields.split_first_mut() else {
             return decision;
         };
+        if !self.depth_known {
+            self.depth_known = true;
+            let homes = core::iter::once((me, self.home)).chain(
+                self.peers
+                    .iter()
+                    .enumerate()
+                    .filter(|(i, p)| *i != me && p.known)
+                    .map(|(i, p)| (i, p.home)),
+            );
+            for (i, home) in homes {
+                let mut sum: u64 = 0;
+                let ok = mine
+                    .compute(map, timing, home, Heading::North, |_, d| {
+                        sum = sum.saturating_add(u64::from(d));
+                        Flow::Continue
+                    })
+                    .is_ok();
+                if let Some(slot) = self.depth.get_mut(i) {
+                    *slot = if ok { sum } else { 0 };
+                }
+            }
+        }
+        let depth = self.depth;
+        let my_depth = depth.get(me).copied().unwrap_or(0);
         // (field in `rest`, peer home index, peer goes first) of every
         // returning team mate.
         let mut pending: Vec<(usize, usize, bool), MAX_ROBOTS> = Vec::new();
-        let mut homes: Vec<Pos, MAX_ROBOTS> = Vec::new();
-        for (i, p) in self.peers.iter().enumerate() {
-            if i == me || !p.known || p.failed {
-                continue;
+        let peers = &self.peers;
+        let homes: Vec<Pos, MAX_ROBOTS> = peers
+            .iter()
+            .enumerate()
+            .filter(|(i, p)| *i != me && p.known && !p.failed)
+            .map(|(_, p)| p.home)
+            .collect();
+        // Plans the way home of every returning team mate that goes first
+        // (`firsts`) or of every other one: the others' ways only matter
+        // once we know we are gated, so most decisions never plan them.
+        let plan = |firsts: bool,
+                    pending: &mut Vec<(usize, usize, bool), MAX_ROBOTS>,
+                    rest: &mut [DistField<F>]| {
+            for (i, p) in peers.iter().enumerate() {
+                if i == me || !p.known || p.failed {
+                    continue;
+                }
+                // The deeper home fills first, else a robot already home
+                // would plug a corridor for good. Depth is the home's total
+                // distance to every node of the complete map (a dead end
+                // scores high, a junction low): the same for every robot and
+                // independent of where anyone stands, so it is a total order
+                // (ties by id) and no two robots ever wait for each other,
+                // nor flip their minds as they move.
+                let theirs = depth.get(i).copied().unwrap_or(0);
+                let first = (theirs, core::cmp::Reverse(i)) > (my_depth, core::cmp::Reverse(me));
+                if first != firsts {
+                    continue;
+                }
+                let slot = pending.len();
+                let (false, Some(h), Some(field)) =
+                    (p.pos == p.home, bounds.index(p.home), rest.get_mut(slot))
+                else {
+                    continue;
+                };
+                let result = field.compute(map, timing, p.pos, p.heading, |v, _| {
+                    if v == h { Flow::Stop } else { Flow::Continue }
+                });
+                if result.is_ok() {
+                    let _ = pending.push((slot, h, first));
+                }
             }
-            let _ = homes.push(p.home);
-            let slot = pending.len();
-            let (false, Some(h), Some(field)) =
-                (p.pos == p.home, bounds.index(p.home), rest.get_mut(slot))
-            else {
-                continue;
-            };
-            // A total order (by id), so that robots never wait for each
-            // other in a circle; a lower id whose way home is blocked by a
-            // higher id already home is handled by making way.
-            let first = i < me;
-            let result = field.compute(map, timing, p.pos, p.heading, |v, _| {
-                if v == h { Flow::Stop } else { Flow::Continue }
-            });
-            if result.is_ok() {
-                let _ = pending.push((slot, h, first));
-            }
-        }
-        let rest = &*rest;
-        let on_way = |v: usize, only_first: bool| {
-            pending
-                .iter()
-                .filter(|e| e.2 || !only_first)
-                .any(|&(s, h, _)| rest.get(s).is_some_and(|f| f.path_passes(map, h, v)))
         };
-        let on_someones_way = |v: usize| on_way(v, false);
-        let gated = on_way(my_home, true);
-        // Never wait for ever: after a while, go and let the make-way
-        // behaviour sort it out.
+        plan(true, &mut pending, rest);
+        let gated = pending
+            .iter()
+            .any(|&(s, h, _)| rest.get(s).is_some_and(|f| f.path_passes(map, h, my_home)));
+        // Never wait for ever: after a while without a team mate coming
+        // home, go and let the make-way behaviour sort it out. Waiting
+        // for several team mates in turn is progress, not a deadlock.
         let now = self.now;
+        let home_count = peers
+            .iter()
+            .filter(|p| p.known && !p.failed && p.pos == p.home)
+            .count();
+        if home_count != self.gated_home {
+            self.gated_home = home_count;
+            self.gated_since = None;
+        }
         let since = *self.gated_since.get_or_insert(now);
         let patience = timing.edge.saturating_mul(TICK_MS).saturating_mul(40);
         if !gated || now.wrapping_sub(since) > patience {
@@ -117,6 +206,13 @@ where
             }
             return decision;
         }
+        plan(false, &mut pending, rest);
+        let rest = &*rest;
+        let on_someones_way = |v: usize| {
+            pending
+                .iter()
+                .any(|&(s, h, _)| rest.get(s).is_some_and(|f| f.path_passes(map, h, v)))
+        };
         // Gated: find the nearest node off every returning robot's way that
         // is nobody's home, and go there (or stay, if here).
         let mut spot = None;

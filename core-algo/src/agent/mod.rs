@@ -116,6 +116,11 @@ pub struct Agent<M, F, S, const K: usize> {
     escaping: bool,
     yielding: bool,
     gated_since: Option<Millis>,
+    gated_home: usize,
+    /// Depth of every robot's home (see `keep_out_of_the_way`), computed
+    /// once the map is complete.
+    depth: [u64; MAX_ROBOTS],
+    depth_known: bool,
     finished_sent: bool,
     map_grew: bool,
     now: Millis,
@@ -157,6 +162,9 @@ where
             escaping: false,
             yielding: false,
             gated_since: None,
+            gated_home: 0,
+            depth: [0; MAX_ROBOTS],
+            depth_known: false,
             finished_sent: false,
             map_grew: false,
             now: 0,
@@ -408,6 +416,19 @@ where
         if self.map_grew && matches!(self.motion, Motion::Standing) && self.mode != Mode::Manual {
             self.map_grew = false;
             self.decide(out);
+        } else if matches!(news, PeerNews::NodeHit { .. })
+            && self.mode == Mode::Return
+            && matches!(self.motion, Motion::Standing)
+            && self.pos == self.home
+            && self.map.is_complete()
+        {
+            // Home already, but a team mate on its way may need to pass
+            // through here to a deeper home: leave before it arrives, or
+            // the corridor stays plugged.
+            let decision = self.keep_out_of_the_way(Decision::STAY);
+            if decision.next.is_some() {
+                self.follow(decision, out);
+            }
         }
         self.check_finished(out);
         Ok(())
@@ -581,6 +602,12 @@ where
         } else {
             decision
         };
+        self.follow(decision, out);
+    }
+
+    /// Acts on a decision: announces a new target, sets the mode, turns and
+    /// drives, or waits.
+    fn follow(&mut self, decision: Decision, out: &mut Commands) {
         let target = decision.target();
         if target != self.target {
             self.target = target;
