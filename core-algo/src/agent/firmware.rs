@@ -390,4 +390,64 @@ mod tests {
         assert!(out.is_empty());
         assert_eq!(g.dropped(), 0);
     }
+
+    /// The firmware's QEMU scenario: a lone MinPos robot in a two-node dead
+    /// end turns round and drives home.
+    #[test]
+    fn a_lone_firmware_robot_comes_home_from_a_dead_end() {
+        let bounds = Bounds::new(Pos::new(-16, -16), 32, 32);
+        let map = KnownMap::new(vec![Block::EMPTY; blocks_for(bounds.area())], bounds);
+        let Ok(map) = map else { unreachable!() };
+        let field = DistField::new(vec![PlanCell::EMPTY; min_cells(bounds.area())]);
+        let mut a: Agent<_, _, crate::explore::MinPos, 1> = Agent::new(
+            RobotId(0),
+            map,
+            [field],
+            crate::explore::MinPos,
+            AgentConfig::default(),
+        );
+        let mut g = Glue::new(RobotId(0));
+        let mut out = Effects::new();
+        let start = Message::Start {
+            pose: Pose {
+                pos: Pos::new(0, 0),
+                heading: Heading::North,
+            },
+            settings: StrategySettings {
+                kind: StrategyKind::Coordinated,
+                team_size: 1,
+                speed: 6000,
+            },
+        };
+        g.on_message(&mut a, 100, &start, &mut out);
+        out.clear();
+        g.on_report(
+            &mut a,
+            300,
+            Report::NodeHit {
+                relative: Arms::from_bits(0b0001),
+            },
+            &mut out,
+        );
+        assert!(
+            out.iter().any(|e| matches!(e, Effect::Body(Order::Move))),
+            "{out:?}"
+        );
+        out.clear();
+        g.tick(&mut a, 400, &mut out);
+        out.clear();
+        g.on_report(
+            &mut a,
+            600,
+            Report::NodeHit {
+                relative: Arms::from_bits(0b0100),
+            },
+            &mut out,
+        );
+        assert!(
+            out.iter()
+                .any(|e| matches!(e, Effect::Body(Order::Turn(crate::geometry::Turn::UTurn)))),
+            "{out:?}"
+        );
+    }
 }

@@ -354,3 +354,45 @@ fn two_robots_localize_by_one_contact_then_explore_in_robot_0s_frame() {
     .unwrap();
     assert!(a0.map().is_complete());
 }
+
+/// A lone robot in a two-node dead end turns round and drives home (the
+/// firmware's QEMU end-to-end scenario).
+#[test]
+fn a_lone_robot_comes_home_from_a_dead_end() {
+    let bounds = Bounds::new(Pos::new(-16, -16), 32, 32);
+    let map = KnownMap::new(vec![Block::EMPTY; blocks_for(bounds.area())], bounds).unwrap();
+    let field = DistField::new(vec![PlanCell::EMPTY; min_cells(bounds.area())]);
+    let mut a: Agent<_, _, crate::explore::MinPos, 1> = Agent::new(
+        RobotId(0),
+        map,
+        [field],
+        crate::explore::MinPos,
+        AgentConfig::default(),
+    );
+    a.handle(
+        0,
+        Event::Start {
+            pos: Pos::new(0, 0),
+            heading: N,
+        },
+    )
+    .unwrap();
+    let out = a
+        .handle(
+            10,
+            Event::NodeHit {
+                relative: arms(&[N]).to_relative(N),
+            },
+        )
+        .unwrap();
+    assert!(out.contains(&Command::Move), "{out:?}");
+    let out = a
+        .handle(
+            20,
+            Event::NodeHit {
+                relative: arms(&[S]).to_relative(N),
+            },
+        )
+        .unwrap();
+    assert!(out.contains(&Command::Turn(Turn::UTurn)), "{out:?}");
+}
