@@ -119,15 +119,16 @@ impl Robot {
     }
 
     /// Pumps (keeping the body channel alive) until `want` matches
-    /// something heard; returns it and forgets what came before.
+    /// something heard; returns it and takes it out of what was heard.
     fn expect(&mut self, what: &str, mut want: impl FnMut(&Heard) -> bool) -> Heard {
         let deadline = Instant::now() + Duration::from_secs(15);
         let mut keep_alive = Instant::now();
         loop {
+            // Only the match is taken: the link and the body channel are
+            // two UARTs, so a body order may arrive before the report the
+            // firmware sent first, and must not be thrown away with it.
             if let Some(i) = self.heard.iter().position(&mut want) {
-                let h = self.heard.remove(i);
-                self.heard.drain(..i);
-                return h;
+                return self.heard.remove(i);
             }
             assert!(
                 Instant::now() < deadline,
