@@ -12,8 +12,10 @@ where
     S: Strategy<M, F>,
 {
     /// Makes way: a robot standing idle on someone's route (typically at
-    /// home, where another robot's way home may lead through) drives one
-    /// edge away from the other robot, waits, and plans again.
+    /// home, where another robot's way home may lead through) retreats to
+    /// the nearest node off the way of a bumper whose home fills first and
+    /// holds there until it is home (see `plan_retreat`); otherwise it
+    /// drives one edge away from the other robot, waits, and plans again.
     pub(super) fn on_bumped(
         &mut self,
         toward: Heading,
