@@ -12,8 +12,10 @@ where
     S: Strategy<M, F>,
 {
     /// Makes way: a robot standing idle on someone's route (typically at
-    /// home, where another robot's way home may lead through) drives one
-    /// edge away from the other robot, waits, and plans again.
+    /// home, where another robot's way home may lead through) retreats to
+    /// the nearest node off the way of a bumper whose home fills first and
+    /// holds there until it is home (see `plan_retreat`); otherwise it
+    /// drives one edge away from the other robot, waits, and plans again.
     pub(super) fn on_bumped(
         &mut self,
         toward: Heading,
@@ -56,6 +58,21 @@ where
             }
             _ => None,
         };
+        // Once the map is complete and the bumper's home fills first, one
+        // edge is not enough: in a corridor we would only be bumped again,
+        // or come back into its way. Retreat to the nearest node off its
+        // way and hold there until it is home.
+        let first = bumper.map(|q| q.pos).and_then(|from| {
+            self.peers
+                .iter()
+                .position(|q| q.known && !q.failed && q.pos == from)
+        });
+        if let Some(b) = first.filter(|&b| self.goes_first(b)) {
+            if self.plan_retreat(b) {
+                self.decide(out);
+                return Ok(());
+            }
+        }
         let (map, fields, peers, me) = (&self.map, &self.fields, &self.peers, self.id.index());
         let on_way = |v: Option<usize>| match (way, v, fields.first()) {
             (Some(goal), Some(v), Some(field)) => field.path_passes(map, goal, v),
@@ -94,6 +111,154 @@ where
         }
         self.start_move(out);
         Ok(())
+    }
+
+    /// Whether team mate `i`'s home fills before ours: known only once the
+    /// map is complete and the depths are computed.
+    pub(super) fn goes_first(&self, i: usize) -> bool {
+        let me = self.id.index();
+        let (Some(&theirs), Some(&mine)) = (self.depth.get(i), self.depth.get(me)) else {
+            return false;
+        };
+        self.depth_known
+            && self.map.is_complete()
+            && i != me
+            && (theirs, core::cmp::Reverse(i)) > (mine, core::cmp::Reverse(me))
+    }
+
+    /// Plans a retreat out of team mate `b`'s way (to its target, else
+    /// home) and starts it (the next decision drives it); whether there is
+    /// somewhere to go.
+    pub(super) fn plan_retreat(&mut self, b: usize) -> bool {
+        let bounds = self.map.bounds();
+        let Some(q) = self.peers.get(b).copied().filter(|q| q.known && !q.failed) else {
+            return false;
+        };
+        let Some(goal) = bounds.index(q.target.unwrap_or(q.home)) else {
+            return false;
+        };
+        let (map, timing) = (&self.map, self.config.timing);
+        let Some(field) = self.fields.first_mut() else {
+            return false;
+        };
+        let reached = field
+            .compute(map, timing, q.pos, q.heading, |v, _| {
+                if v == goal {
+                    Flow::Stop
+                } else {
+                    Flow::Continue
+                }
+            })
+            .is_ok();
+        if !reached || field.dist_at(goal).is_none() {
+            return false;
+        }
+        let Some(spot) = self.retreat_spot(goal, q.pos) else {
+            return false;
+        };
+        self.retreat = Some(Retreat {
+            spot,
+            bumper: b,
+            since: self.now,
+        });
+        true
+    }
+
+    /// The nearest node to retreat to from a bumper standing at `from`
+    /// whose way ends at node `goal` (planned in the first field): off that
+    /// way, nobody else's home, not taken, and reached without driving
+    /// through the bumper. Plans in the second field; `None` with a single
+    /// field or if there is no such node.
+    fn retreat_spot(&mut self, goal: usize, from: Pos) -> Option<Pos> {
+        let bounds = self.map.bounds();
+        let blocked = bounds.index(from)?;
+        let (me, map, peers) = (self.id.index(), &self.map, &self.peers);
+        let timing = self.config.timing;
+        let (theirs, rest) = self.fields.split_first_mut()?;
+        let (mine, rest) = rest.split_first_mut()?;
+        // With a third field: not behind the bumper's goal as seen from
+        // our home, or we would only be shut in once it is there.
+        let home = self.home;
+        let homeward = rest.first_mut().and_then(|f| {
+            f.compute(map, timing, home, Heading::North, |_, _| Flow::Continue)
+                .is_ok()
+                .then_some(&*f)
+        });
+        let theirs = &*theirs;
+        let free = |v: usize| {
+            let p = bounds.pos(v);
+            v != blocked
+                && !theirs.path_passes(map, goal, v)
+                && !homeward.is_some_and(|f| f.path_passes(map, v, goal))
+                && !peers
+                    .iter()
+                    .enumerate()
+                    .any(|(i, q)| i != me && q.known && !q.failed && (q.home == p || q.pos == p))
+        };
+        let mut found = None;
+        let mut first = true;
+        loop {
+            let mut reached = |v: usize, d: Ticks| {
+                if d > 0 && free(v) {
+                    found = Some(v);
+                    Flow::Stop
+                } else {
+                    Flow::Continue
+                }
+            };
+            let result = if first {
+                mine.compute(map, timing, self.pos, self.heading, &mut reached)
+            } else {
+                mine.resume(map, &mut reached)
+            };
+            first = false;
+            result.ok()?;
+            let v = found.take()?;
+            if !mine.path_passes(map, v, blocked) {
+                return Some(bounds.pos(v));
+            }
+        }
+    }
+
+    /// Drives to the retreat spot and holds there until the team mate that
+    /// bumped us is home (or failed, or a long time-out); `None` once the
+    /// retreat is over.
+    pub(super) fn retreat_decision(&mut self) -> Option<Decision> {
+        let r = self.retreat?;
+        let timing = self.config.timing;
+        let patience = timing.edge.saturating_mul(TICK_MS).saturating_mul(80);
+        let over = self
+            .peers
+            .get(r.bumper)
+            .is_none_or(|q| !q.known || q.failed || q.pos == q.home)
+            || self.now.wrapping_sub(r.since) > patience
+            || !self.map.is_complete();
+        let bounds = self.map.bounds();
+        let spot = bounds.index(r.spot);
+        let (pos, heading, map) = (self.pos, self.heading, &self.map);
+        let next = match (over, spot, self.fields.get_mut(1)) {
+            (false, Some(spot), Some(field)) if r.spot != pos => {
+                let reached = field
+                    .compute(map, timing, pos, heading, |v, _| {
+                        if v == spot {
+                            Flow::Stop
+                        } else {
+                            Flow::Continue
+                        }
+                    })
+                    .is_ok();
+                reached.then(|| field.first_heading(map, spot)).flatten()
+            }
+            _ => None,
+        };
+        if over || (next.is_none() && r.spot != pos) {
+            self.retreat = None;
+            return None;
+        }
+        Some(Decision {
+            goal: Goal::Home,
+            next,
+        })
     }
 
     /// Homecoming without deadlock: robots cannot pass each other on a

@@ -93,6 +93,14 @@ const NO_PEER: Peer = Peer {
     last_heard: 0,
 };
 
+/// A retreat out of a team mate's way home.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+struct Retreat {
+    spot: Pos,
+    bumper: usize,
+    since: Millis,
+}
+
 /// The robot's brain; see the module docs.
 ///
 /// `K` planner fields: one is enough for decentralised strategies (the
@@ -121,6 +129,9 @@ pub struct Agent<M, F, S, const K: usize> {
     /// once the map is complete.
     depth: [u64; MAX_ROBOTS],
     depth_known: bool,
+    /// Making way for a team mate whose home fills first: where to, whom
+    /// for, since when (see `on_bumped`).
+    retreat: Option<Retreat>,
     finished_sent: bool,
     map_grew: bool,
     now: Millis,
@@ -165,6 +176,7 @@ where
             gated_home: 0,
             depth: [0; MAX_ROBOTS],
             depth_known: false,
+            retreat: None,
             finished_sent: false,
             map_grew: false,
             now: 0,
@@ -329,6 +341,7 @@ where
         let Motion::Driving { from } = self.motion else {
             return Err(AgentError::Unexpected);
         };
+        let blocked = self.pos;
         // Back on the node it left, facing back.
         self.pos = from;
         self.heading = self.heading.opposite();
@@ -337,6 +350,18 @@ where
         self.motion = Motion::Waiting {
             until: self.now.wrapping_add(wait),
         };
+        // Homecoming: ran into a team mate. If its home fills first, get
+        // out of its way; if ours does but it keeps standing there (it has
+        // nowhere to go), make way for it instead, or both wait for ever.
+        if self.retreat.is_none() && self.mode == Mode::Return && self.map.is_complete() {
+            let b = self
+                .peers
+                .iter()
+                .position(|q| q.known && !q.failed && q.pos == blocked);
+            if let Some(b) = b.filter(|&b| self.goes_first(b) || self.retries >= 3) {
+                self.plan_retreat(b);
+            }
+        }
         let _ = out;
         Ok(())
     }
@@ -582,6 +607,10 @@ where
             self.mode,
             Mode::Idle | Mode::Error | Mode::Manual | Mode::Localize
         ) {
+            return;
+        }
+        if let Some(decision) = self.retreat_decision() {
+            self.follow(decision, out);
             return;
         }
         let (views, n) = self.views();
