@@ -8,6 +8,7 @@
 //! network (`--bind 0.0.0.0`).
 
 pub mod api;
+pub mod files;
 mod routes;
 pub mod session;
 pub mod team;

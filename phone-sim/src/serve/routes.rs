@@ -11,7 +11,8 @@
 
 use super::AppState;
 use super::api::{Command, Push};
-use super::session::{MAX_IMPORT_BYTES, Request};
+use super::files::MAX_IMPORT_BYTES;
+use super::session::Request;
 use axum::Json;
 use axum::body::Bytes;
 use axum::extract::ws::{Message as WsMessage, WebSocket, WebSocketUpgrade};

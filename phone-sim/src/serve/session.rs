@@ -10,9 +10,10 @@ use super::api::{
     Choices, Command, FieldChoice, Frame, NodeView, Push, RobotView, RunInfo, RunResult, RunStatus,
     Snapshot, StatsView,
 };
+use super::files::{self, choice};
 use super::team::Team;
 use crate::environment::Update;
-use crate::field::{self, Field, LoadOptions};
+use crate::field::Field;
 use core_algo::geometry::Pos;
 use core_algo::team::RobotId;
 use std::collections::{BTreeMap, VecDeque};
@@ -28,8 +29,6 @@ const LOG_LINES: usize = 200;
 /// Wall time one round may spend stepping a simulation, so that requests
 /// are answered promptly even at full speed.
 const STEP_BUDGET: Duration = Duration::from_millis(25);
-/// The largest field a page may import, in bytes.
-pub const MAX_IMPORT_BYTES: usize = 4 << 20;
 
 /// A request from the HTTP side.
 pub enum Request {
@@ -574,114 +573,21 @@ impl Session {
         }
     }
 
-    /// The explored map as a file of `format` (`field` or `sep`). Arms
-    /// into nodes nobody has seen yet are left out, so that a partial map
-    /// is still a valid field; the file says how many.
+    /// The explored map as a file of `format` (`field` or `sep`); see
+    /// [`files::export`].
     pub fn export(&self, format: &str) -> Result<(String, String), String> {
-        if !matches!(format, "field" | "sep") {
-            return Err(format!("expected format field or sep, found '{format}'"));
-        }
-        let map = self.team.env().map();
-        let known: BTreeMap<Pos, core_algo::geometry::Arms> = map
-            .visited()
-            .filter_map(|(p, c)| c.arms().map(|a| (p, a)))
-            .collect();
-        let mut clipped = 0usize;
-        let nodes: BTreeMap<_, _> = known
-            .iter()
-            .map(|(&p, &a)| {
-                let mut kept = a;
-                for h in a.iter() {
-                    if p.step(h).is_none_or(|q| !known.contains_key(&q)) {
-                        kept = kept.without(h);
-                        clipped += 1;
-                    }
-                }
-                (p, kept)
-            })
-            .collect();
-        if nodes.is_empty() {
-            return Err("nothing explored yet".into());
-        }
-        let starts = self
-            .team
-            .starts()
-            .into_iter()
-            .filter(|s| nodes.contains_key(&s.pos))
-            .collect();
-        let name = format!("{} (explored)", self.spec.field);
-        let explored = Field::new(name, nodes, starts).map_err(|e| e.to_string())?;
-        let file = format!("{}-explored.{format}", slug(&self.spec.field));
-        let mut text = field::to_text(&explored, &file).map_err(|e| e.to_string())?;
-        if clipped > 0 && format == "field" {
-            text = text.replacen(
-                '\n',
-                &format!("\n# partial map: {clipped} arm(s) into unexplored nodes left out\n"),
-                1,
-            );
-        }
-        Ok((file, text))
+        files::export(
+            self.team.env().map(),
+            self.team.starts(),
+            &self.spec.field,
+            format,
+        )
     }
 
-    /// Adds an uploaded field file to the library.
+    /// Adds an uploaded field file to the library; see [`files::import`].
     pub fn import(&mut self, name: &str, bytes: &[u8]) -> Result<FieldChoice, String> {
-        if bytes.len() > MAX_IMPORT_BYTES {
-            return Err(format!(
-                "{name}: {} bytes, more than the {MAX_IMPORT_BYTES} this server takes",
-                bytes.len()
-            ));
-        }
-        let file = std::path::Path::new(name)
-            .file_name()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let f =
-            field::parse_bytes(bytes, &file, LoadOptions::default()).map_err(|e| e.to_string())?;
-        if f.starts().is_empty() {
-            return Err(format!("{file}: the field has no start pose"));
-        }
-        let mut f = f;
-        if f.name().is_empty() || self.library.iter().any(|g| g.name() == f.name()) {
-            let base = if f.name().is_empty() {
-                file.clone()
-            } else {
-                f.name().to_string()
-            };
-            let mut n = 1;
-            let mut candidate = base.clone();
-            while self.library.iter().any(|g| g.name() == candidate) {
-                n += 1;
-                candidate = format!("{base} ({n})");
-            }
-            f = f.with_name(candidate);
-        }
-        let c = choice(&f);
-        self.library.push(f);
+        let c = files::import(&mut self.library, name, bytes)?;
         self.note(format!("field {} imported", c.name));
         Ok(c)
     }
-}
-
-fn choice(f: &Field) -> FieldChoice {
-    FieldChoice {
-        name: f.name().to_string(),
-        starts: f.starts().len(),
-        nodes: f.nodes().len(),
-    }
-}
-
-/// A file-name-safe form of a field name.
-fn slug(name: &str) -> String {
-    let s: String = name
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() {
-                c.to_ascii_lowercase()
-            } else {
-                '-'
-            }
-        })
-        .collect();
-    let s = s.trim_matches('-').to_string();
-    if s.is_empty() { "map".into() } else { s }
 }
