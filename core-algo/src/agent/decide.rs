@@ -1,0 +1,175 @@
+//! Deciding at a node: asking the strategy with the team as this robot
+//! sees it, following its answer (announce, turn, drive or wait), and
+//! knowing when the team is done.
+
+use super::*;
+
+impl<M, F, S, const K: usize> Agent<M, F, S, K>
+where
+    M: AsRef<[Block]> + AsMut<[Block]>,
+    F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+    S: Strategy<M, F>,
+{
+    /// Says `Finished` once, when this robot stands at home, its map is
+    /// complete and every living teammate is home.
+    pub(super) fn check_finished(&mut self, out: &mut Commands) {
+        if self.finished_sent
+            || !matches!(self.motion, Motion::Standing)
+            || !matches!(self.mode, Mode::Explore | Mode::Return)
+            || self.pos != self.home
+            || !self.team_done()
+        {
+            return;
+        }
+        self.finished_sent = true;
+        self.mode = Mode::Finished;
+        push(out, Command::Finished);
+    }
+
+    /// The team as this robot sees it, for the strategy.
+    pub(super) fn views(&self) -> ([RobotView; MAX_ROBOTS], usize) {
+        let far: Ticks = u32::MAX / 4;
+        let mut views = [RobotView {
+            pos: self.pos,
+            heading: self.heading,
+            eta: far,
+            home: self.home,
+            target: None,
+        }; MAX_ROBOTS];
+        let mut n = self.id.index() + 1;
+        for (i, (v, p)) in views.iter_mut().zip(self.peers.iter()).enumerate() {
+            if i == self.id.index() {
+                v.eta = 0;
+                v.target = self.target;
+            } else if p.known {
+                n = n.max(i + 1);
+                *v = RobotView {
+                    pos: p.pos,
+                    heading: p.heading,
+                    eta: if p.failed { far } else { 0 },
+                    home: p.home,
+                    target: if p.failed { None } else { p.target },
+                };
+            }
+        }
+        (views, n.min(MAX_ROBOTS))
+    }
+
+    /// Asks the strategy and acts on its answer. Only called while standing.
+    pub(super) fn decide(&mut self, out: &mut Commands) {
+        if matches!(
+            self.mode,
+            Mode::Idle | Mode::Error | Mode::Manual | Mode::Localize
+        ) {
+            return;
+        }
+        if let Some(decision) = self.retreat_decision() {
+            self.follow(decision, out);
+            return;
+        }
+        let (views, n) = self.views();
+        let robots = views.get(..n).unwrap_or(&views);
+        let ctx = Context {
+            map: &self.map,
+            timing: self.config.timing,
+            robots,
+            me: self.id.index(),
+        };
+        let decision = self
+            .strategy
+            .decide(&ctx, &mut self.fields)
+            .unwrap_or(Decision::STAY);
+        let decision = if matches!(decision.goal, Goal::Home | Goal::Done) && self.map.is_complete()
+        {
+            self.keep_out_of_the_way(decision)
+        } else {
+            decision
+        };
+        self.follow(decision, out);
+    }
+
+    /// Acts on a decision: announces a new target, sets the mode, turns and
+    /// drives, or waits.
+    pub(super) fn follow(&mut self, decision: Decision, out: &mut Commands) {
+        let target = decision.target();
+        if target != self.target {
+            self.target = target;
+            push(out, Command::Announce { target });
+        }
+        match decision.goal {
+            Goal::Frontier(_) => self.mode = Mode::Explore,
+            Goal::Home => self.mode = Mode::Return,
+            Goal::Done => {
+                if self.mode == Mode::Explore && self.map.is_complete() {
+                    self.mode = Mode::Return;
+                }
+            }
+            // Standing aside while others explore: keep the mode.
+            Goal::Wait => {}
+        }
+        let Some(h) = decision.next else {
+            if self.pos != self.home && (self.mode == Mode::Return || decision.goal == Goal::Wait) {
+                // Held back (or home unreachable for now): look again soon.
+                let edge_ms = self.config.timing.edge.saturating_mul(TICK_MS);
+                self.motion = Motion::Waiting {
+                    until: self.now.wrapping_add(edge_ms),
+                };
+            }
+            self.check_finished(out);
+            return;
+        };
+        if !self.can_move(h) {
+            // A strategy must not send us along an unknown arm; stay safe.
+            return;
+        }
+        match self.heading.turn_to(h) {
+            None => self.start_move(out),
+            Some(t) => {
+                // Turn and move go out together: the body turns on the node,
+                // then drives, without another round trip.
+                self.heading = h;
+                push(out, Command::Turn(t));
+                self.start_move(out);
+            }
+        }
+    }
+
+    pub(super) fn start_move(&mut self, out: &mut Commands) {
+        let Some(next) = self.pos.step(self.heading) else {
+            return;
+        };
+        if !self.can_move(self.heading) {
+            self.motion = Motion::Standing;
+            return;
+        }
+        self.motion = Motion::Driving { from: self.pos };
+        self.pos = next;
+        push(out, Command::Move);
+    }
+
+    /// Whether the map knows an arm from the current node towards `h`.
+    pub(super) fn can_move(&self, h: Heading) -> bool {
+        self.map.known_arms(self.pos).is_some_and(|a| a.has(h))
+    }
+
+    /// Every living teammate is home (as far as we know) and nothing is
+    /// left to explore.
+    pub(super) fn team_done(&self) -> bool {
+        self.map.is_complete() && self.peers_home()
+    }
+
+    /// Every living teammate reported being on its home node.
+    pub(super) fn peers_home(&self) -> bool {
+        self.peers
+            .iter()
+            .enumerate()
+            .filter(|(i, p)| *i != self.id.index() && p.known && !p.failed)
+            .all(|(_, p)| p.pos == p.home)
+    }
+
+    pub(super) fn backoff(&self) -> Millis {
+        let shift = u32::from(self.retries.min(5));
+        let base = self.config.backoff_ms.max(TICK_MS);
+        base.saturating_mul(1 << shift) / 2 + base.saturating_mul(u32::from(self.id.0 % 8)) / 2
+    }
+}
