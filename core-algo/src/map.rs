@@ -300,6 +300,7 @@ pub struct KnownMap<S> {
     visited: u32,
     frontier: u32,
     deduced: u32,
+    revision: u32,
 }
 
 impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
@@ -319,6 +320,7 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
             visited: 0,
             frontier: 0,
             deduced: 0,
+            revision: 0,
         })
     }
 
@@ -328,6 +330,14 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
         self.visited = 0;
         self.frontier = 0;
         self.deduced = 0;
+        self.revision = self.revision.wrapping_add(1);
+    }
+
+    /// Changes whenever the known graph does (a node visited for the first
+    /// time, or the map cleared): a planner may reuse a field computed at the
+    /// same revision instead of searching again.
+    pub fn revision(&self) -> u32 {
+        self.revision
     }
 
     /// The window this map covers.
@@ -452,6 +462,7 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
             c.first_visitor = robot.0;
         });
         self.visited += 1;
+        self.revision = self.revision.wrapping_add(1);
         self.refresh_frontier(i);
         let mut arm_leaves_bounds = false;
         for h in Heading::ALL {

@@ -213,6 +213,15 @@ fn index_manhattan(w: usize, a: usize, b: usize) -> u32 {
 /// on the host. The field stays readable until the next search.
 pub struct DistField<S> {
     cells: S,
+    /// Storage indices `lo..hi` hold every cell the last search settled:
+    /// the next search clears only those. A search that stops early on a
+    /// large map touches a small band of rows, and clearing the whole
+    /// scratch (16 bytes a node) would cost more than the search itself.
+    dirty: (usize, usize),
+    /// The map revision a completed or stopped Dijkstra search ran on
+    /// (`None` after A*, whose settled states are not a shortest-path tree
+    /// in search order, or after an error).
+    tree: Option<u32>,
     queue: Queues,
     bounds: Bounds,
     start: Option<(usize, Heading)>,
@@ -225,6 +234,8 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         storage.as_mut().fill(PlanCell::EMPTY);
         DistField {
             cells: storage,
+            dirty: (0, 0),
+            tree: None,
             queue: Queues::default(),
             bounds: Bounds::new(Pos::new(0, 0), 0, 0),
             start: None,
@@ -287,7 +298,8 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             });
         }
         let s0 = bounds.index(start).ok_or(PlanError::OutOfBounds(start))?;
-        if let Some(cells) = self.cells.as_mut().get_mut(..area) {
+        let (lo, hi) = core::mem::take(&mut self.dirty);
+        if let Some(cells) = self.cells.as_mut().get_mut(lo..hi) {
             cells.fill(PlanCell::EMPTY);
         }
         self.bounds = bounds;
@@ -308,6 +320,11 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         if c.settled(h) {
             return None;
         }
+        self.dirty = if self.dirty.0 == self.dirty.1 {
+            (i, i + 1)
+        } else {
+            (self.dirty.0.min(i), self.dirty.1.max(i + 1))
+        };
         let first = match c.dist() {
             None => {
                 c.base = key & DIST_MASK;
@@ -336,15 +353,43 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         heading: Heading,
         mut reached: impl FnMut(usize, Ticks) -> Flow,
     ) -> Result<(), PlanError> {
+        self.tree = None;
         let s0 = self.prepare(map, timing, start, heading)?;
         let h0 = usize::from(heading.index());
         self.queue = Queues::default();
         self.settle(s0, h0, 0);
         self.queue.pending = Some((s0, h0, 0));
         if reached(s0, 0) == Flow::Stop {
+            self.tree = Some(map.revision());
             return Ok(());
         }
-        self.resume(map, reached)
+        let result = self.resume(map, reached);
+        if result.is_ok() {
+            self.tree = Some(map.revision());
+        }
+        result
+    }
+
+    /// Whether this field is a search by [`DistField::compute`] from the
+    /// pose (`start`, `heading`) over `map` as it is now: then it holds the
+    /// same shortest-path tree a new search would grow (the search order is
+    /// deterministic), as far as it went, and need not be searched again.
+    pub fn is_search_from<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        start: Pos,
+        heading: Heading,
+    ) -> bool {
+        let bounds = map.bounds();
+        self.tree == Some(map.revision())
+            && self.bounds == bounds
+            && self.start == bounds.index(start).map(|i| (i, heading))
+            && self.timing
+                == Timing {
+                    edge: timing.edge.max(1),
+                    quarter_turn: timing.quarter_turn.clamp(1, crate::timing::MAX_TURN_TICKS),
+                }
     }
 
     /// Continues a search that its callback stopped, over the same `map`
@@ -532,6 +577,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         heading: Heading,
         goal: Pos,
     ) -> Result<Option<Ticks>, PlanError> {
+        self.tree = None;
         let s0 = self.prepare(map, timing, start, heading)?;
         let Some(g) = self.bounds.index(goal) else {
             return Ok(None);

@@ -105,6 +105,11 @@ pub struct GenerateArgs {
     /// Seed of the random stream.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Number of start poses, packed around the south-west corner (a `.sim`
+    /// file holds at most six).
+    #[arg(long, default_value_t = 6,
+          value_parser = clap::value_parser!(u16).range(1..=core_algo::explore::MAX_ROBOTS as i64))]
+    pub starts: u16,
     /// Output file (.field, .sim, .sep); without it, prints native text.
     #[arg(long, short)]
     pub out: Option<PathBuf>,
@@ -199,12 +204,12 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
     match cli.command {
         None => {
             let f = demo_field()?;
-            println!("{}", summary(&f));
-            print!("{}", ascii::field(&f));
-            println!();
+            crate::outln!("{}", summary(&f));
+            crate::out!("{}", ascii::field(&f));
+            crate::outln!();
             let args = crate::explore_cmd::ExploreArgs::default();
             crate::explore_cmd::run(&args)?;
-            println!("(see `conquest --help` for every command)");
+            crate::outln!("(see `conquest --help` for every command)");
             Ok(())
         }
         Some(Command::Explore(a)) => crate::explore_cmd::run(&a),
@@ -212,16 +217,16 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Some(Command::Serve(a)) => crate::serve::run(&a),
         Some(Command::Validate(a)) => {
             let f = load(&a.file, a.read)?;
-            println!("{}: ok: {}", a.file.display(), summary(&f));
+            crate::outln!("{}: ok: {}", a.file.display(), summary(&f));
             if a.show {
-                print!("{}", ascii::field(&f));
+                crate::out!("{}", ascii::field(&f));
             }
             Ok(())
         }
         Some(Command::Convert(a)) => {
             let f = load(&a.input, a.read)?;
             field::save(&f, &a.output)?;
-            println!(
+            crate::outln!(
                 "{} -> {}: {}",
                 a.input.display(),
                 a.output.display(),
@@ -232,7 +237,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Some(Command::Render(a)) => {
             let f = load(&a.file, a.read)?;
             crate::render::render(&f, &a.out).map_err(CliError::BadInput)?;
-            println!("{} -> {}", a.file.display(), a.out.display());
+            crate::outln!("{} -> {}", a.file.display(), a.out.display());
             Ok(())
         }
         Some(Command::Bench(a)) => {
@@ -240,12 +245,16 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         }
         Some(Command::Generate(a)) => {
             let f = a.kind.generate(a.size.0, a.size.1, a.seed);
+            let starts = field::default_starts(f.nodes(), usize::from(a.starts));
+            let f = f
+                .with_starts(starts)
+                .map_err(|e| CliError::Failed(e.to_string()))?;
             match a.out {
                 Some(out) => {
                     field::save(&f, &out)?;
-                    println!("{}: {}", out.display(), summary(&f));
+                    crate::outln!("{}: {}", out.display(), summary(&f));
                 }
-                None => print!("{}", field::native::write(&f)),
+                None => crate::out!("{}", field::native::write(&f)),
             }
             Ok(())
         }

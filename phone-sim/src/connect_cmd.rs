@@ -90,12 +90,12 @@ pub fn run(a: &ConnectArgs) -> Result<(), CliError> {
     let deadline = a
         .timeout_s
         .map(|s| Duration::from_secs_f64(s.clamp(0.0, 1e7)));
-    println!("waiting for {} robot(s) to say hello...", proxies.len());
+    crate::outln!("waiting for {} robot(s) to say hello...", proxies.len());
     let done = drive(&mut phone, &mut proxies, deadline, |u| match u {
-        Update::Log(line) => println!("{line}"),
-        Update::Node { pos, arms, visits } if *visits == 1 => println!("node {pos}: {arms}"),
+        Update::Log(line) => crate::outln!("{line}"),
+        Update::Node { pos, arms, visits } if *visits == 1 => crate::outln!("node {pos}: {arms}"),
         Update::Finished { at_ms } => {
-            println!("team done after {:.1} s", f64::from(*at_ms) / 1000.0)
+            crate::outln!("team done after {:.1} s", f64::from(*at_ms) / 1000.0)
         }
         _ => {}
     });
@@ -105,11 +105,15 @@ pub fn run(a: &ConnectArgs) -> Result<(), CliError> {
         .visited()
         .filter_map(|(p, c)| c.arms().map(|a| (p, a)))
         .collect();
-    print!("{}", ascii::nodes(&nodes, &[]));
+    crate::out!("{}", ascii::nodes(&nodes, &[]));
     let s = phone.env().stats();
-    println!(
+    crate::outln!(
         "{} messages received, {} relayed, {} link errors, {} retransmissions, {} conflicts",
-        s.received, s.relayed, s.link_errors, s.retransmissions, s.conflicts
+        s.received,
+        s.relayed,
+        s.link_errors,
+        s.retransmissions,
+        s.conflicts
     );
     if done {
         Ok(())

@@ -506,7 +506,7 @@ pub fn finish(
 ) -> Result<(), CliError> {
     if a.json {
         let text = serde_json::to_string(r).map_err(|e| CliError::Failed(e.to_string()))?;
-        println!("{text}");
+        crate::outln!("{text}");
     } else {
         print_report(env, bodies, r, to_team);
     }
@@ -551,21 +551,26 @@ fn print_report(
         .iter()
         .map(|b| (to_team.pos(b.pos), ascii::arrow(to_team.heading(b.heading))))
         .collect();
-    println!(
+    crate::outln!(
         "explored map of {} ({} robots, strategy {}, seed {}):",
-        r.field, r.robots, r.strategy, r.seed
+        r.field,
+        r.robots,
+        r.strategy,
+        r.seed
     );
-    print!("{}", ascii::nodes(&nodes, &marks));
-    println!();
-    println!(
+    crate::out!("{}", ascii::nodes(&nodes, &marks));
+    crate::outln!();
+    crate::outln!(
         "complete: {} (map correct: {}, all home: {})",
-        r.complete, r.map_correct, r.all_home
+        r.complete,
+        r.map_correct,
+        r.all_home
     );
     if let Some(correct) = r.poses_correct {
         let took = r
             .localize_s
             .map_or_else(|| "did not finish".to_string(), |s| format!("{s:.1} s"));
-        println!(
+        crate::outln!(
             "localization {}: {took}, {} moves, poses correct: {correct}{}",
             r.localize,
             r.localize_moves.unwrap_or(0),
@@ -575,17 +580,25 @@ fn print_report(
                 .unwrap_or_default()
         );
     }
-    println!(
+    crate::outln!(
         "makespan {:.1} s, lower bound {:.1} s, ratio {:.2}; simulated in {:.3} s",
-        r.makespan_s, r.lower_bound_s, r.ratio, r.wall_s
+        r.makespan_s,
+        r.lower_bound_s,
+        r.ratio,
+        r.wall_s
     );
-    println!(
+    crate::outln!(
         "messages {} received, {} relayed; frames {} sent, {} lost, {} retransmitted; {} conflicts",
-        r.messages, r.relayed, r.frames_sent, r.frames_lost, r.retransmissions, r.conflicts
+        r.messages,
+        r.relayed,
+        r.frames_sent,
+        r.frames_lost,
+        r.retransmissions,
+        r.conflicts
     );
-    println!("robot  alive  explored  driven  expl/driven  revisits  turns  collisions");
+    crate::outln!("robot  alive  explored  driven  expl/driven  revisits  turns  collisions");
     for p in &r.per_robot {
-        println!(
+        crate::outln!(
             "{:>5}  {:>5}  {:>8}  {:>6}  {:>11.2}  {:>8}  {:>5}  {:>10}",
             p.id,
             p.alive,

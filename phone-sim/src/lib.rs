@@ -7,6 +7,35 @@
 //! Robot decisions are not made here: they live in `core-algo`, shared with
 //! the firmware.
 
+/// `print!` to standard output that ends the process quietly when the
+/// reader has gone (`conquest explore --json | head`), as Unix tools do,
+/// instead of panicking like `print!`.
+#[macro_export]
+macro_rules! out {
+    ($($arg:tt)*) => { $crate::stdout_or_exit(format_args!($($arg)*)) };
+}
+
+/// [`out!`] with a newline.
+#[macro_export]
+macro_rules! outln {
+    () => { $crate::out!("\n") };
+    ($($arg:tt)*) => { $crate::stdout_or_exit(format_args!("{}\n", format_args!($($arg)*))) };
+}
+
+/// Writes to standard output; a closed pipe ends the process with the
+/// status a shell reports for SIGPIPE (141), any other error is reported.
+pub fn stdout_or_exit(args: std::fmt::Arguments<'_>) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    if let Err(e) = out.write_fmt(args) {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(141);
+        }
+        eprintln!("conquest: cannot write to standard output: {e}");
+        std::process::exit(1);
+    }
+}
+
 pub mod bench;
 pub mod cli;
 pub mod connect_cmd;

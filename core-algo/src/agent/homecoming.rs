@@ -333,15 +333,24 @@ where
                 if first != firsts {
                     continue;
                 }
-                let slot = pending.len();
+                // One field slot per team mate, so that its way stays
+                // planned until it moves or the map grows: with many robots
+                // at home, every report would otherwise re-plan everyone.
+                let slot = if i < me { i } else { i - 1 };
                 let (false, Some(h), Some(field)) =
                     (p.pos == p.home, bounds.index(p.home), rest.get_mut(slot))
                 else {
                     continue;
                 };
-                let result = field.compute(map, timing, p.pos, p.heading, |v, _| {
-                    if v == h { Flow::Stop } else { Flow::Continue }
-                });
+                let planned = field.is_search_from(map, timing, p.pos, p.heading)
+                    && field.dist_at(h).is_some();
+                let result = if planned {
+                    Ok(())
+                } else {
+                    field.compute(map, timing, p.pos, p.heading, |v, _| {
+                        if v == h { Flow::Stop } else { Flow::Continue }
+                    })
+                };
                 if result.is_ok() {
                     let _ = pending.push((slot, h, first));
                 }

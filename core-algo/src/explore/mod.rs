@@ -33,8 +33,9 @@ pub use nearest::{GreedyClaim, NearestFrontier};
 pub use tempo::{Tempo, TempoConfig};
 
 /// The largest team a centralised strategy plans for at once. The seed plans
-/// for six robots; eight leaves room for the simulator's larger teams.
-pub const MAX_ROBOTS: usize = 8;
+/// for six robots; sixteen lets the simulator run the large-field teams
+/// (a 256 × 256 field with 16 robots).
+pub const MAX_ROBOTS: usize = 16;
 
 /// What one robot of the team looks like to a deciding robot.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -150,11 +151,16 @@ where
     let map = ctx.map;
     let bounds = map.bounds();
     let mut best: Option<(Ticks, usize)> = None;
+    // Once every frontier node is reached there is nothing left to find: late
+    // in a run, with a few frontier nodes left, this saves searching the rest
+    // of a large map.
+    let mut unseen = map.frontier_len();
     field.compute(map, ctx.timing, me.pos, me.heading, |i, d| {
-        if best.is_some_and(|(b, _)| d > b) {
+        if best.is_some_and(|(b, _)| d > b) || unseen == 0 {
             return Flow::Stop;
         }
         if map.is_frontier_at(i) {
+            unseen -= 1;
             if let Some(x) = extra(i, bounds.pos(i), d) {
                 let cand = (d.saturating_add(x), i);
                 if best.is_none_or(|b| cand < b) {
@@ -162,7 +168,11 @@ where
                 }
             }
         }
-        Flow::Continue
+        if unseen == 0 {
+            Flow::Stop
+        } else {
+            Flow::Continue
+        }
     })?;
     Ok(best.map(|(t, i)| (i, t)))
 }

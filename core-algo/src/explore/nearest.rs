@@ -3,6 +3,7 @@
 use super::{Context, Decision, Strategy, cheapest_frontier, explore_decision, go_home};
 use crate::map::Block;
 use crate::path::{DistField, PlanCell, PlanError};
+use crate::timing::Ticks;
 
 /// Yamauchi's nearest frontier: each robot drives to the frontier node it
 /// reaches soonest, ignoring the others. The floor every coordinated
@@ -60,11 +61,17 @@ where
                 .enumerate()
                 .any(|(j, r)| j != ctx.me && r.target == Some(p))
         };
-        if let Some((i, _)) = cheapest_frontier(ctx, field, |_, p, _| (!claimed(p)).then_some(0))? {
-            return Ok(explore_decision(ctx, field, i));
-        }
-        match cheapest_frontier(ctx, field, |_, _, _| Some(0))? {
-            Some((i, _)) => Ok(explore_decision(ctx, field, i)),
+        // One search for both: the nearest claimed node is only wanted when
+        // no unclaimed one exists, and then the search has seen them all.
+        let mut nearest: Option<(Ticks, usize)> = None;
+        let unclaimed = cheapest_frontier(ctx, field, |i, p, d| {
+            if nearest.is_none_or(|b| (d, i) < b) {
+                nearest = Some((d, i));
+            }
+            (!claimed(p)).then_some(0)
+        })?;
+        match unclaimed.map(|(i, _)| i).or(nearest.map(|(_, i)| i)) {
+            Some(i) => Ok(explore_decision(ctx, field, i)),
             None => go_home(ctx, field),
         }
     }

@@ -371,7 +371,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
             }
             std::fs::write(p, &text)?
         }
-        None => print!("{text}"),
+        None => crate::out!("{text}"),
     }
     std::fs::create_dir_all(&args.out)?;
     std::fs::write(args.out.join("bench.md"), markdown(&rows, &strategies))?;

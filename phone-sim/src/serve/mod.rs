@@ -176,7 +176,7 @@ pub fn run(a: &ServeArgs) -> Result<(), CliError> {
             .local_addr()
             .map_err(|e| CliError::Failed(format!("no local address: {e}")))?;
         // Tests and scripts read this line to find the port.
-        println!("conquest serve: listening on http://{local}/");
+        crate::outln!("conquest serve: listening on http://{local}/");
         use std::io::Write as _;
         let _ = std::io::stdout().flush();
         axum::serve(listener, routes::router(state))
