@@ -794,5 +794,7 @@ impl Heap {
     }
 }
 
+mod weighted;
+
 #[cfg(test)]
 mod tests;
