@@ -22,7 +22,8 @@
 //!   [`cooperative_penalty`] keeps the numbers for the record.
 //! - **Distance**: the score is the A* path cost, where entering a node
 //!   costs [`STEP`] (10), plus [`OCCUPIED`] (50) for every other robot whose
-//!   position is that node, plus the heading bias of [`heading_bias`]: +2
+//!   position is that node (its last reported node, so a robot driving to a
+//!   frontier node does not claim it: [`reported_pos`]), plus the heading bias of [`heading_bias`]: +2
 //!   for a node behind the robot, +1 for one off its line, measured from the
 //!   robot's *current* pose, not along the path.
 //! - **Selection** (`getBestNode`): the least score; ties go to the least
@@ -53,17 +54,16 @@
 //!
 //! Not reproduced, because nothing here carries it: the collision memory
 //! (+40 per recorded collision at a node for 50 evaluations; the node-level
-//! model has no collisions, and the agent handles its own). Robot positions
-//! are where a robot stands or is driving to ([`RobotView::pos`]); the 2010
-//! code used the last node each robot reported. Among equally cheap paths to
-//! the chosen target the first move may differ from the 2010 A*'s (which
-//! depended on the target's heuristic and Java's heap order); the relaxation
-//! order is the 2010 neighbour order.
+//! model has no collisions, and the agent handles its own). Among equally
+//! cheap paths to the chosen target the first move may differ from the 2010
+//! A*'s (which depended on the target's heuristic and Java's heap order);
+//! the relaxation order is the 2010 neighbour order.
 
 use super::{Context, Decision, Goal, RobotView, Strategy};
 use crate::geometry::{Heading, Pos};
 use crate::map::{Block, KnownMap};
 use crate::path::{DistField, Flow, PlanCell, PlanError};
+use crate::timing::Timing;
 
 /// Cost of entering a node (`calculateNodeCosts`, base).
 pub const STEP: u32 = 10;
@@ -115,13 +115,29 @@ fn is_target<M: AsRef<[Block]> + AsMut<[Block]>>(map: &KnownMap<M>, i: usize) ->
         .is_some_and(|c| !c.is_visited() && c.arms_into() > 0)
 }
 
-/// The 2010 cost of entering `n` for the robot `me` of `robots` standing
-/// at `pos` facing `heading`.
-pub fn entry_cost(robots: &[RobotView], me: usize, pos: Pos, heading: Heading, n: Pos) -> u32 {
-    let others = robots
+/// Where the 2010 code had robot `r`: the node it last reported. A robot
+/// that will stand on `r.pos` within one drive (a turn of up to a U-turn
+/// and an edge, `0 < eta ≤` that) is on the edge into it and last reported
+/// the node behind it; otherwise it stands on `r.pos` (failed robots, whose
+/// `eta` is far, included: the 2010 code counted ERROR robots too).
+pub fn reported_pos(r: &RobotView, timing: Timing) -> Pos {
+    let drive = timing.edge.saturating_add(timing.turn(2));
+    if r.eta > 0 && r.eta <= drive {
+        r.pos.step(r.heading.opposite()).unwrap_or(r.pos)
+    } else {
+        r.pos
+    }
+}
+
+/// The 2010 cost of entering `n` for robot `me` of `ctx.robots` standing
+/// at `pos` facing `heading`: [`STEP`], [`OCCUPIED`] for every other robot
+/// whose [`reported_pos`] is `n`, and the [`heading_bias`].
+pub fn entry_cost<M>(ctx: &Context<'_, M>, pos: Pos, heading: Heading, n: Pos) -> u32 {
+    let others = ctx
+        .robots
         .iter()
         .enumerate()
-        .filter(|&(j, r)| j != me && r.pos == n)
+        .filter(|&(j, r)| j != ctx.me && reported_pos(r, ctx.timing) == n)
         .count() as u32;
     STEP + OCCUPIED * others + heading_bias(pos, heading, n)
 }
@@ -155,7 +171,7 @@ impl Legacy2010 {
         field.compute_weighted(
             map,
             pos,
-            |i| entry_cost(ctx.robots, ctx.me, pos, heading, bounds.pos(i)),
+            |i| entry_cost(ctx, pos, heading, bounds.pos(i)),
             |i, d| {
                 if best.is_some_and(|(b, _, _)| d > b) {
                     return Flow::Stop;
@@ -203,7 +219,7 @@ impl Legacy2010 {
         field.compute_weighted(
             ctx.map,
             pos,
-            |i| entry_cost(ctx.robots, ctx.me, pos, heading, bounds.pos(i)),
+            |i| entry_cost(ctx, pos, heading, bounds.pos(i)),
             |i, _| if i == h { Flow::Stop } else { Flow::Continue },
         )?;
         Ok(match field.weighted_first_heading(h) {

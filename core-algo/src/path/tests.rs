@@ -279,10 +279,10 @@ proptest! {
         prop_assert_eq!(order.len(), want.iter().flatten().count());
         // No turn-aware search stands in the scratch.
         prop_assert_eq!(f.first_heading(&map, 0), None);
-        for v in 0..area {
-            prop_assert_eq!(f.dist_at(v), want[v]);
+        for (v, &wv) in want.iter().enumerate() {
+            prop_assert_eq!(f.dist_at(v), wv);
             let first = f.weighted_first_heading(v);
-            match want[v] {
+            match wv {
                 None | Some(0) => prop_assert_eq!(first, None),
                 Some(d) => {
                     // The first step lands on a node from which the rest

@@ -98,12 +98,13 @@ fn worked_examples_of_original_system_3_5() {
     let b = Bounds::new(Pos::new(-4, -5), 9, 11);
     let m = open_grid(b);
     let robots = [view(Pos::new(0, 0), Heading::South)];
+    let c = ctx(&m, &robots);
     let mut f = fields(&m);
     let o = Pos::new(0, 0);
     f[0].compute_weighted(
         &m,
         o,
-        |i| entry_cost(&robots, 0, o, Heading::South, b.pos(i)),
+        |i| entry_cost(&c, o, Heading::South, b.pos(i)),
         |_, _| Flow::Continue,
     )
     .unwrap();
@@ -122,10 +123,11 @@ fn worked_examples_of_original_system_3_5() {
     // (1, 0), (1, 1), (1, 2), (0, 2), (0, 3) = 11 + 11 + 11 + 10 + 10 = 53
     // < 30 + 50.
     let robots = [view(o, Heading::South), view(p2010(0, 1), Heading::North)];
+    let c = ctx(&m, &robots);
     f[0].compute_weighted(
         &m,
         o,
-        |i| entry_cost(&robots, 0, o, Heading::South, b.pos(i)),
+        |i| entry_cost(&c, o, Heading::South, b.pos(i)),
         |_, _| Flow::Continue,
     )
     .unwrap();
@@ -133,7 +135,7 @@ fn worked_examples_of_original_system_3_5() {
     assert_eq!(f[0].dist(p2010(0, 3)), Some(53));
     // Robot 1 sees robot 0 on (0, 0), straight ahead of it.
     assert_eq!(
-        entry_cost(&robots, 1, p2010(0, 1), Heading::North, o),
+        entry_cost(&Context { me: 1, ..c }, p2010(0, 1), Heading::North, o),
         10 + 50
     );
 }
@@ -326,4 +328,54 @@ fn unreachable_frontier_sends_the_robot_home_along_2010_costs() {
     let robots = [view(Pos::new(0, 0), Heading::West)];
     let c = ctx(&m, &robots);
     assert_eq!(Legacy2010.decide(&c, &mut f).unwrap(), Decision::STAY);
+}
+
+#[test]
+fn a_robot_counts_where_it_last_reported() {
+    // The 2010 position of a robot was the node it last reported: one on
+    // its way to a node still counts on the node it left.
+    let t = Timing::DEFAULT;
+    let mut r = view(Pos::new(3, 3), Heading::East);
+    assert_eq!(reported_pos(&r, t), Pos::new(3, 3));
+    r.eta = t.edge;
+    assert_eq!(reported_pos(&r, t), Pos::new(2, 3));
+    r.eta = t.edge + t.turn(2);
+    assert_eq!(reported_pos(&r, t), Pos::new(2, 3));
+    // Far off (the agent's failed or unknown team mates): where it stands.
+    r.eta = u32::MAX / 4;
+    assert_eq!(reported_pos(&r, t), Pos::new(3, 3));
+    // So a robot driving to the cheapest frontier node does not claim it:
+    // robot 1 left (3, 1) for (3, 2); robot 0 at (2, 1) facing north still
+    // takes (2, 2) (10), and (3, 1) costs 50 more to pass.
+    let b = Bounds::new(Pos::new(0, 0), 8, 3);
+    let row: Vec<(Pos, Arms)> = (0..6)
+        .map(|x| {
+            let a = Arms::CROSS;
+            (
+                Pos::new(x, 1),
+                if x == 0 { a.without(Heading::West) } else { a },
+            )
+        })
+        .collect();
+    let m = map_of(b, &row);
+    let mut other = view(Pos::new(2, 2), Heading::North);
+    other.eta = t.edge;
+    let robots = [view(Pos::new(2, 1), Heading::North), other];
+    let c = ctx(&m, &robots);
+    assert_eq!(
+        entry_cost(&c, Pos::new(2, 1), Heading::North, Pos::new(2, 2)),
+        10
+    );
+    let mut f = fields(&m);
+    assert_eq!(
+        Legacy2010::choose(&c, Heading::North, &mut f[0]).unwrap(),
+        Some((b.index(Pos::new(2, 2)).unwrap(), 10))
+    );
+    other.eta = 0;
+    let robots = [view(Pos::new(2, 1), Heading::North), other];
+    let c = ctx(&m, &robots);
+    assert_eq!(
+        entry_cost(&c, Pos::new(2, 1), Heading::North, Pos::new(2, 2)),
+        60
+    );
 }
