@@ -22,10 +22,10 @@
 //!   [`cooperative_penalty`] keeps the numbers for the record.
 //! - **Distance**: the score is the A* path cost, where entering a node
 //!   costs [`STEP`] (10), plus [`OCCUPIED`] (50) for every other robot whose
-//!   position is that node (its last reported node, so a robot driving to a
-//!   frontier node does not claim it: [`reported_pos`]), plus the heading bias of [`heading_bias`]: +2
-//!   for a node behind the robot, +1 for one off its line, measured from the
-//!   robot's *current* pose, not along the path.
+//!   position is that node (the node it last reported, so a robot driving
+//!   to a frontier node does not claim it: [`reported_pos`]), plus the
+//!   [`heading_bias`]: +2 for a node behind the robot, +1 for one off its
+//!   line, measured from the robot's *current* pose, not along the path.
 //! - **Selection** (`getBestNode`): the least score; ties go to the least
 //!   2010 map key ([`legacy_key`]). Its quirk (a best value of 0 is replaced
 //!   by any later node) cannot trigger: every target is at least one entry
@@ -50,7 +50,8 @@
 //! A* could return more than the least cost (an improved g updated neither
 //! the predecessor nor the heap): that defect is not reproduced. Frontier
 //! nodes were passable for its A*; here they are not, which changes no
-//! choice: a path through another target costs more than that target.
+//! choice: a path through another target costs more than that target, and
+//! reaches it first.
 //!
 //! Not reproduced, because nothing here carries it: the collision memory
 //! (+40 per recorded collision at a node for 50 evaluations; the node-level
