@@ -840,5 +840,7 @@ impl Heap {
     }
 }
 
+mod weighted;
+
 #[cfg(test)]
 mod tests;

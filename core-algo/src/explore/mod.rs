@@ -22,12 +22,14 @@ use crate::timing::{Ticks, Timing};
 
 mod assign;
 mod layers;
+pub mod legacy;
 mod minpos;
 mod nearest;
 mod tempo;
 
 pub use assign::{Assignment, AssignmentObjective, BurgardGreedy};
 pub use layers::{CooperationLayer, Layer, ResidualLayer, SeedConfig, SeedExplorer};
+pub use legacy::Legacy2010;
 pub use minpos::MinPos;
 pub use nearest::{GreedyClaim, NearestFrontier};
 pub use tempo::{Tempo, TempoConfig};

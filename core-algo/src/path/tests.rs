@@ -239,3 +239,62 @@ proptest! {
 fn planner_state_is_sixteen_bytes_per_node() {
     assert_eq!(core::mem::size_of::<PlanCell>(), 16);
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// The node-weighted field against a brute-force node Dijkstra, and its
+    /// first heading leads along a path of that cost.
+    #[test]
+    fn weighted_field_agrees_with_brute_force(
+        w in 1u16..12, h in 1u16..12, seed in any::<u64>(), frac in 0.0f64..1.0,
+        base in 1u32..20, spread in 0u32..60,
+    ) {
+        let area = usize::from(w) * usize::from(h);
+        let map = random_known(w, h, seed, (area as f64 * frac) as usize + 1);
+        let b = map.bounds();
+        let cost = |i: usize| base + ((i as u64).wrapping_mul(seed | 1) >> 7) as u32 % (spread + 1);
+        let mut want = vec![None; area];
+        let mut heap = BinaryHeap::new();
+        heap.push(Reverse((0u32, 0usize)));
+        while let Some(Reverse((d, v))) = heap.pop() {
+            if want[v].is_some() {
+                continue;
+            }
+            want[v] = Some(d);
+            let Some(a) = arms_at(&map, v) else { continue };
+            for hd in a.iter() {
+                if let Some(u) = neighbour_index(b, v, hd) {
+                    heap.push(Reverse((d + cost(u), u)));
+                }
+            }
+        }
+        let mut f = field_for(area);
+        let mut order = Vec::new();
+        f.compute_weighted(&map, Pos::new(0, 0), cost, |i, d| {
+            order.push((i, d));
+            Flow::Continue
+        }).unwrap();
+        prop_assert!(order.windows(2).all(|p| p[0].1 <= p[1].1));
+        prop_assert_eq!(order.len(), want.iter().flatten().count());
+        // No turn-aware search stands in the scratch.
+        prop_assert_eq!(f.first_heading(&map, 0), None);
+        for (v, &wv) in want.iter().enumerate() {
+            prop_assert_eq!(f.dist_at(v), wv);
+            let first = f.weighted_first_heading(v);
+            match wv {
+                None | Some(0) => prop_assert_eq!(first, None),
+                Some(d) => {
+                    // The first step lands on a node from which the rest
+                    // of the path costs what is left.
+                    let hd = first.unwrap();
+                    prop_assert!(arms_at(&map, 0).unwrap().has(hd));
+                    let n = neighbour_index(b, 0, hd).unwrap();
+                    let mut g = field_for(area);
+                    g.compute_weighted(&map, b.pos(n), cost, |_, _| Flow::Continue).unwrap();
+                    prop_assert_eq!(g.dist_at(v).map(|r| r + cost(n)), Some(d));
+                }
+            }
+        }
+    }
+}

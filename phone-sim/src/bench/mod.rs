@@ -13,8 +13,8 @@ use crate::field::Field;
 use crate::field::generate::Kind;
 use crate::world::{self, DynStrategy, RunStats, Truth, WorldConfig};
 use core_algo::explore::{
-    Assignment, AssignmentObjective, BurgardGreedy, GreedyClaim, MinPos, NearestFrontier,
-    SeedExplorer, Tempo, TempoConfig,
+    Assignment, AssignmentObjective, BurgardGreedy, GreedyClaim, Legacy2010, MinPos,
+    NearestFrontier, SeedExplorer, Tempo, TempoConfig,
 };
 use core_algo::geometry::{Heading, Pos};
 use core_algo::timing::{DEFAULT_NODE_SPACING_MM, DEFAULT_SPEED_STEPS_PER_S, Ticks, Timing};
@@ -26,10 +26,11 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 pub use report::{csv, markdown, svg_plot};
 
 /// The strategies the benchmark knows, in table order, by name.
-pub const STRATEGIES: [&str; 8] = [
+pub const STRATEGIES: [&str; 9] = [
     "nearest",
     "claim",
     "seed",
+    "legacy2010",
     "burgard",
     "hungarian",
     "bottleneck",
@@ -43,6 +44,7 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
         "nearest" => Box::new(NearestFrontier),
         "claim" => Box::new(GreedyClaim),
         "seed" => Box::new(SeedExplorer::default()),
+        "legacy2010" => Box::new(Legacy2010),
         "burgard" => Box::new(BurgardGreedy::default()),
         "hungarian" => Box::new(Assignment {
             objective: AssignmentObjective::MinSum,
