@@ -204,9 +204,15 @@ proptest! {
             let node = (0..4).filter_map(|k| want[v * 4 + k]).min();
             prop_assert_eq!(f.dist_at(v), node);
         }
-        // A search stopped anywhere and resumed gives the same field.
+        // A search stopped anywhere and resumed gives the same field, also
+        // on scratch that other searches used before (only what they
+        // touched is cleared).
         let stop_after = (seed % 7) as usize + 1;
         let mut r = field_for(area);
+        let last = map.bounds().pos(area - 1);
+        r.compute_weighted(&map, last, |_| 3, |_, _| Flow::Continue).unwrap();
+        r.compute(&map, t, last, Heading::from_index(h0 ^ 2), |_, _| Flow::Continue).unwrap();
+        let _ = r.astar(&map, t, last, Heading::North, Pos::new(0, 0)).unwrap();
         let mut seen = Vec::new();
         r.compute(&map, t, Pos::new(0, 0), Heading::from_index(h0), |i, d| {
             seen.push((i, d));
@@ -269,7 +275,12 @@ proptest! {
                 }
             }
         }
+        // Scratch used by the turn-aware searches first: their leftovers
+        // must not leak into the weighted search.
         let mut f = field_for(area);
+        let last = b.pos(area - 1);
+        f.compute(&map, Timing::DEFAULT, last, Heading::East, |_, _| Flow::Continue).unwrap();
+        let _ = f.astar(&map, Timing::DEFAULT, last, Heading::West, Pos::new(0, 0)).unwrap();
         let mut order = Vec::new();
         f.compute_weighted(&map, Pos::new(0, 0), cost, |i, d| {
             order.push((i, d));

@@ -150,8 +150,18 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let s0 = self.prepare(map, Timing::DEFAULT, start, Heading::North)?;
         // No turn-aware search stands in the scratch now.
         self.start = None;
+        self.tree = None;
         let bounds = self.bounds;
+        // The node → heap-slot index in `ring_b` must start at zero, and the
+        // turn-aware searches leave their ring slots behind (they clear only
+        // what they settled): clear the whole window, and have the next
+        // search clear it again.
+        let area = bounds.area();
+        self.dirty = (0, area);
         let cells = self.cells.as_mut();
+        if let Some(window) = cells.get_mut(..area) {
+            window.fill(PlanCell::EMPTY);
+        }
         if let Some(c) = cells.get_mut(s0) {
             c.base = 0;
         }
