@@ -360,16 +360,33 @@ where
         let gated = pending
             .iter()
             .any(|&(s, h, _)| rest.get(s).is_some_and(|f| f.path_passes(map, h, my_home)));
-        // Never wait for ever: after a while without a team mate coming
-        // home, go and let the make-way behaviour sort it out. Waiting
-        // for several team mates in turn is progress, not a deadlock.
+        // Never wait for ever: after a while in which no team mate we wait
+        // for moved and none came home, go and let the make-way behaviour
+        // sort it out. A team mate still driving (from the far end of a
+        // large maze, say) is progress, not a deadlock: going home before
+        // it would plug its way.
         let now = self.now;
-        let home_count = peers
-            .iter()
-            .filter(|p| p.known && !p.failed && p.pos == p.home)
-            .count();
-        if home_count != self.gated_home {
-            self.gated_home = home_count;
+        let mut progress: u32 = 0;
+        for (i, p) in peers.iter().enumerate() {
+            if i == me || !p.known || p.failed {
+                continue;
+            }
+            let home = u32::from(p.pos == p.home);
+            let waited_for = pending.iter().any(|&(s, h, _)| {
+                s == if i < me { i } else { i - 1 }
+                    && rest.get(s).is_some_and(|f| f.path_passes(map, h, my_home))
+            });
+            let at = if waited_for {
+                (p.pos.x as u16 as u32) << 16 | p.pos.y as u16 as u32
+            } else {
+                0
+            };
+            progress = progress
+                .wrapping_mul(0x9E37_79B1)
+                .wrapping_add(at ^ home ^ (i as u32) << 1);
+        }
+        if progress != self.gated_progress {
+            self.gated_progress = progress;
             self.gated_since = None;
         }
         let since = *self.gated_since.get_or_insert(now);
@@ -387,16 +404,69 @@ where
                 .iter()
                 .any(|&(s, h, _)| rest.get(s).is_some_and(|f| f.path_passes(map, h, v)))
         };
-        // Gated: find the nearest node off every returning robot's way that
-        // is nobody's home, and go there (or stay, if here).
+        // Gated: wait at the node nearest to our home (not to where we
+        // stand) that is off every returning robot's way, nobody's home and
+        // nobody's place, so that we are close when our turn comes: robots
+        // waiting wherever they stood would come home one long trip after
+        // another. Then drive there (or stay, if here).
+        let occupied = |v: usize| {
+            peers
+                .iter()
+                .enumerate()
+                .any(|(i, q)| i != me && q.known && !q.failed && bounds.index(q.pos) == Some(v))
+        };
+        // A spot whose way home passes the home of a robot that goes first
+        // is a trap: once that robot is in, we could not get out.
+        let earlier: Vec<usize, MAX_ROBOTS> = peers
+            .iter()
+            .enumerate()
+            .filter(|(i, q)| {
+                let theirs = depth.get(*i).copied().unwrap_or(0);
+                *i != me
+                    && q.known
+                    && !q.failed
+                    && (theirs, core::cmp::Reverse(*i)) > (my_depth, core::cmp::Reverse(me))
+            })
+            .filter_map(|(_, q)| bounds.index(q.home))
+            .collect();
         let mut spot = None;
-        let computed = mine.compute(map, timing, pos, heading, |v, _| {
-            if v != my_home && !homes.contains(&bounds.pos(v)) && !on_someones_way(v) {
-                spot = Some(v);
-                return Flow::Stop;
+        let mut first = true;
+        let found = loop {
+            let mut reached = |v: usize, _| {
+                if v != my_home
+                    && !homes.contains(&bounds.pos(v))
+                    && !on_someones_way(v)
+                    && !occupied(v)
+                {
+                    spot = Some(v);
+                    return Flow::Stop;
+                }
+                Flow::Continue
+            };
+            let result = if first {
+                mine.compute(map, timing, self.home, Heading::North, &mut reached)
+            } else {
+                mine.resume(map, &mut reached)
+            };
+            first = false;
+            let Some(v) = spot.filter(|_| result.is_ok()) else {
+                break result;
+            };
+            let trapped = earlier.iter().any(|&h| mine.path_passes(map, v, h));
+            if !trapped {
+                break result;
             }
-            Flow::Continue
-        });
+            spot = None;
+        };
+        let computed = match (found, spot) {
+            (Ok(()), Some(v)) if bounds.index(pos) != Some(v) => {
+                mine.compute(map, timing, pos, heading, |u, _| {
+                    if u == v { Flow::Stop } else { Flow::Continue }
+                })
+            }
+            (Ok(()), Some(_)) => return Decision::STAY,
+            (other, _) => other,
+        };
         match (computed, spot) {
             (Ok(()), Some(v)) => Decision {
                 goal: Goal::Home,

@@ -125,7 +125,9 @@ pub struct Agent<M, F, S, const K: usize> {
     escaping: bool,
     yielding: bool,
     gated_since: Option<Millis>,
-    gated_home: usize,
+    /// A digest of where the team mates we wait for stand and who is home:
+    /// waiting lasts while it changes (see `keep_out_of_the_way`).
+    gated_progress: u32,
     /// Depth of every robot's home (see `keep_out_of_the_way`), computed
     /// once the map is complete.
     depth: [u64; MAX_ROBOTS],
@@ -174,7 +176,7 @@ where
             escaping: false,
             yielding: false,
             gated_since: None,
-            gated_home: 0,
+            gated_progress: 0,
             depth: [0; MAX_ROBOTS],
             depth_known: false,
             retreat: None,
