@@ -665,6 +665,20 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         target: usize,
         mut step: impl FnMut(usize, Heading),
     ) -> bool {
+        self.walk_back_while(map, target, |v, h, _| {
+            step(v, h);
+            Flow::Continue
+        })
+    }
+
+    /// [`DistField::walk_back`] that also passes the distance of each state
+    /// driven into, and stops (returning `true`) when `step` says so.
+    fn walk_back_while<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        target: usize,
+        mut step: impl FnMut(usize, Heading, Ticks) -> Flow,
+    ) -> bool {
         let Some((s0, h0)) = self.start else {
             return false;
         };
@@ -684,7 +698,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                 return true;
             }
             if let Some(u) = self.drive_pred(map, v, h, d) {
-                step(v, Heading::from_index(h as u8));
+                if step(v, Heading::from_index(h as u8), d) == Flow::Stop {
+                    return true;
+                }
                 v = u;
                 d -= t.edge;
                 continue;
@@ -724,8 +740,18 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         target: usize,
         via: usize,
     ) -> bool {
+        // Distances fall along the walk back: once below `via`'s own, the
+        // walk cannot meet it any more (homecoming asks this for many nodes
+        // near the end of long paths).
+        let Some(dv) = self.dist_at(via) else {
+            return false;
+        };
         let mut hit = false;
-        self.walk_back(map, target, |v, _| hit |= v == via) && hit
+        let walked = self.walk_back_while(map, target, |v, _, d| {
+            hit |= v == via;
+            if hit || d < dv { Flow::Stop } else { Flow::Continue }
+        });
+        walked && hit
     }
 
     /// Writes the nodes of the cheapest path to node `target` into `out`,
