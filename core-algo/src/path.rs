@@ -749,7 +749,11 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let mut hit = false;
         let walked = self.walk_back_while(map, target, |v, _, d| {
             hit |= v == via;
-            if hit || d < dv { Flow::Stop } else { Flow::Continue }
+            if hit || d < dv {
+                Flow::Stop
+            } else {
+                Flow::Continue
+            }
         });
         walked && hit
     }

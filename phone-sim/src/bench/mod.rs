@@ -148,11 +148,22 @@ pub fn run_system(
     if strategy(name).is_none() {
         return Err(format!("unknown strategy {name}"));
     }
+    // The same time limit as `conquest explore`: five times the lower
+    // bound, at least an hour (a fixed hour cut large mazes short).
+    let timing = core_algo::timing::Timing::from_hardware(
+        spacing_mm,
+        core_algo::timing::DEFAULT_SPEED_STEPS_PER_S,
+    );
+    let room_s = (5.0 * crate::explore_cmd::lower_bound_s(&field, k, timing)).max(3600.0);
+    let config = SimConfig {
+        max_time_ms: (room_s * 1000.0).clamp(1000.0, f64::from(u32::MAX / 2)) as u32,
+        ..SimConfig::default()
+    };
     let mut sim = Simulation::new(
         &field,
         k,
         |_| BoxedStrategy(strategy(name).unwrap_or_else(|| Box::new(NearestFrontier))),
-        SimConfig::default(),
+        config,
     )
     .map_err(|e| format!("{}: {e}", f.name))?;
     let o = sim.run();
