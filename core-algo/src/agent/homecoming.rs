@@ -5,6 +5,10 @@
 
 use super::*;
 
+/// Team mates farther from home than this many edges have their way home
+/// read from a field rooted at their home (see `keep_out_of_the_way`).
+const NEAR_EDGES: u32 = 32;
+
 impl<M, F, S, const K: usize> Agent<M, F, S, K>
 where
     M: AsRef<[Block]> + AsMut<[Block]>,
@@ -301,8 +305,8 @@ where
         }
         let depth = self.depth;
         let my_depth = depth.get(me).copied().unwrap_or(0);
-        // (field in `rest`, peer home index, peer goes first) of every
-        // returning team mate.
+        // (field in `rest`, the node its way is walked back from, goes
+        // first) of every returning team mate.
         let mut pending: Vec<(usize, usize, bool), MAX_ROBOTS> = Vec::new();
         let peers = &self.peers;
         let homes: Vec<Pos, MAX_ROBOTS> = peers
@@ -333,26 +337,48 @@ where
                 if first != firsts {
                     continue;
                 }
-                // One field slot per team mate, so that its way stays
-                // planned until it moves or the map grows: with many robots
-                // at home, every report would otherwise re-plan everyone.
+                // A far team mate's way home is read backwards from a field
+                // rooted at its home. Once the map is complete that field
+                // never changes: it is grown once and kept in the team
+                // mate's own slot, however often the team mate moves (a field
+                // from where it stands had to be grown again at every step:
+                // on a 256 × 256 field with 16 robots, two thirds of the
+                // run). It is the way the team mate drives up to ties between
+                // equally short ways, which matter only near the homes: a
+                // near team mate's way is planned from where it stands.
                 let slot = if i < me { i } else { i - 1 };
-                let (false, Some(h), Some(field)) =
-                    (p.pos == p.home, bounds.index(p.home), rest.get_mut(slot))
-                else {
+                let (false, Some(at), Some(h), Some(field)) = (
+                    p.pos == p.home,
+                    bounds.index(p.pos),
+                    bounds.index(p.home),
+                    rest.get_mut(slot),
+                ) else {
                     continue;
                 };
-                let planned = field.is_search_from(map, timing, p.pos, p.heading)
+                let rooted = field.is_search_from(map, timing, p.home, Heading::North)
+                    && field.dist_at(at).is_some();
+                let forward = field.is_search_from(map, timing, p.pos, p.heading)
                     && field.dist_at(h).is_some();
-                let result = if planned {
-                    Ok(())
+                let near = timing.edge.saturating_mul(NEAR_EDGES);
+                let result = if forward {
+                    Ok(h)
                 } else {
-                    field.compute(map, timing, p.pos, p.heading, |v, _| {
-                        if v == h { Flow::Stop } else { Flow::Continue }
-                    })
+                    let rooted = rooted
+                        || field
+                            .compute(map, timing, p.home, Heading::North, |_, _| Flow::Continue)
+                            .is_ok();
+                    if rooted && field.dist_at(at).is_some_and(|d| d > near) {
+                        Ok(at)
+                    } else {
+                        field
+                            .compute(map, timing, p.pos, p.heading, |v, _| {
+                                if v == h { Flow::Stop } else { Flow::Continue }
+                            })
+                            .map(|()| h)
+                    }
                 };
-                if result.is_ok() {
-                    let _ = pending.push((slot, h, first));
+                if let Ok(target) = result {
+                    let _ = pending.push((slot, target, first));
                 }
             }
         };
