@@ -403,13 +403,13 @@ where
                     && rest.get(s).is_some_and(|f| f.path_passes(map, h, my_home))
             });
             let at = if waited_for {
-                (p.pos.x as u16 as u32) << 16 | p.pos.y as u16 as u32
+                ((p.pos.x as u16 as u32) << 16) | p.pos.y as u16 as u32
             } else {
                 0
             };
             progress = progress
                 .wrapping_mul(0x9E37_79B1)
-                .wrapping_add(at ^ home ^ (i as u32) << 1);
+                .wrapping_add(at ^ home ^ ((i as u32) << 1));
         }
         if progress != self.gated_progress {
             self.gated_progress = progress;
