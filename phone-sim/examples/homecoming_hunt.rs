@@ -49,11 +49,23 @@ fn main() {
         if !o.complete {
             incomplete += 1;
             wrong_map += usize::from(!o.map_correct);
+            let bodies = sim.bodies().bodies();
+            let shared = bodies.iter().enumerate().any(|(i, a)| {
+                bodies
+                    .iter()
+                    .skip(i + 1)
+                    .any(|b| a.is_alive() && b.is_alive() && a.pos == b.pos)
+            });
             println!(
-                "incomplete: seed {seed}, {} {w}x{h}, {robots} robots (map correct: {}, all home: {})",
+                "incomplete: seed {seed}, {} {w}x{h}, {robots} robots (map correct: {}, all home: {}{})",
                 kind.name(),
                 o.map_correct,
-                o.all_home
+                o.all_home,
+                if shared {
+                    ", two bodies on one node"
+                } else {
+                    ""
+                }
             );
         }
     }
