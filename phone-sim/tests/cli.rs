@@ -233,3 +233,45 @@ fn realtime_pacing_gives_the_same_run() {
         assert_eq!(out.status.code(), Some(2), "--realtime {bad}: {out:?}");
     }
 }
+
+#[test]
+fn generate_packs_starts_and_explore_refuses_teams_beyond_the_planner() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |n: &str| dir.path().join(n).to_str().unwrap().to_string();
+    let out = conquest(&[
+        "generate",
+        "open",
+        "--size",
+        "6x6",
+        "--starts",
+        "16",
+        "--out",
+        &d("s.field"),
+    ]);
+    assert!(out.status.success(), "{out:?}");
+    let text = std::fs::read_to_string(d("s.field")).unwrap();
+    assert_eq!(text.lines().filter(|l| l.starts_with("start ")).count(), 16);
+    // 17 is beyond the planner's team size: clap refuses it.
+    let out = conquest(&["generate", "open", "--starts", "17"]);
+    assert_eq!(out.status.code(), Some(2));
+    // A .sim file holds at most six starts: a clear error, not a bad file.
+    let out = conquest(&[
+        "generate",
+        "open",
+        "--size",
+        "6x6",
+        "--starts",
+        "7",
+        "--out",
+        &d("s.sim"),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(!std::path::Path::new(&d("s.sim")).exists());
+    // A field with more starts than a team may have: one line, status 2.
+    let more: String = (2..6).map(|i| format!("start {i} 5 N\n")).collect();
+    std::fs::write(d("t.field"), text + &more).unwrap();
+    let out = conquest(&["explore", &d("t.field"), "--json"]);
+    assert_eq!(out.status.code(), Some(2), "{out:?}");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("at most 16"), "{err}");
+}

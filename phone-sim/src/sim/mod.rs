@@ -103,6 +103,14 @@ pub enum SimError {
         /// The most robots localization handles.
         max: usize,
     },
+    /// The agents plan for teams of up to `max` robots
+    /// (`core_algo::explore::MAX_ROBOTS`).
+    TeamBeyondPlanner {
+        /// Asked for.
+        robots: usize,
+        /// The largest team.
+        max: usize,
+    },
 }
 
 impl std::fmt::Display for SimError {
@@ -123,6 +131,10 @@ impl std::fmt::Display for SimError {
             SimError::TeamTooLarge { max } => {
                 write!(f, "localization works with teams of up to {max} robots")
             }
+            SimError::TeamBeyondPlanner { robots, max } => write!(
+                f,
+                "asked for {robots} robots, but teams have at most {max} (use --robots)"
+            ),
         }
     }
 }
@@ -167,6 +179,12 @@ impl Simulation {
     ) -> Result<Simulation, SimError> {
         if robots == 0 {
             return Err(SimError::NoRobots);
+        }
+        if robots > core_algo::explore::MAX_ROBOTS {
+            return Err(SimError::TeamBeyondPlanner {
+                robots,
+                max: core_algo::explore::MAX_ROBOTS,
+            });
         }
         if robots > field.starts().len() {
             return Err(SimError::TooManyRobots {
