@@ -199,6 +199,15 @@ fn wrap(i: usize, cap: usize) -> usize {
     if i >= cap { i - cap } else { i }
 }
 
+/// The timing a search runs with: no free edges, turns within what a
+/// cell's heading offsets hold.
+fn searchable(timing: Timing) -> Timing {
+    Timing {
+        edge: timing.edge.max(1),
+        quarter_turn: timing.quarter_turn.clamp(1, crate::timing::MAX_TURN_TICKS),
+    }
+}
+
 /// Manhattan distance of two storage indices in a window of width `w`.
 fn index_manhattan(w: usize, a: usize, b: usize) -> u32 {
     let (ax, ay) = (a % w, a / w);
@@ -305,10 +314,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         self.bounds = bounds;
         self.queue = Queues::default();
         self.start = Some((s0, heading));
-        self.timing = Timing {
-            edge: timing.edge.max(1),
-            quarter_turn: timing.quarter_turn.clamp(1, crate::timing::MAX_TURN_TICKS),
-        };
+        self.timing = searchable(timing);
         Ok(s0)
     }
 
@@ -385,11 +391,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         self.tree == Some(map.revision())
             && self.bounds == bounds
             && self.start == bounds.index(start).map(|i| (i, heading))
-            && self.timing
-                == Timing {
-                    edge: timing.edge.max(1),
-                    quarter_turn: timing.quarter_turn.clamp(1, crate::timing::MAX_TURN_TICKS),
-                }
+            && self.timing == searchable(timing)
     }
 
     /// Continues a search that its callback stopped, over the same `map`

@@ -9,6 +9,12 @@ use super::*;
 /// read from a field rooted at their home (see `keep_out_of_the_way`).
 const NEAR_EDGES: u32 = 32;
 
+/// The planner field (after our own) that keeps team mate `i`'s way home:
+/// one slot per team mate, so a kept way survives other team mates' moves.
+fn mate_slot(i: usize, me: usize) -> usize {
+    if i < me { i } else { i - 1 }
+}
+
 impl<M, F, S, const K: usize> Agent<M, F, S, K>
 where
     M: AsRef<[Block]> + AsMut<[Block]>,
@@ -346,7 +352,7 @@ where
                 // run). It is the way the team mate drives up to ties between
                 // equally short ways, which matter only near the homes: a
                 // near team mate's way is planned from where it stands.
-                let slot = if i < me { i } else { i - 1 };
+                let slot = mate_slot(i, me);
                 let (false, Some(at), Some(h), Some(field)) = (
                     p.pos == p.home,
                     bounds.index(p.pos),
@@ -399,8 +405,7 @@ where
             }
             let home = u32::from(p.pos == p.home);
             let waited_for = pending.iter().any(|&(s, h, _)| {
-                s == if i < me { i } else { i - 1 }
-                    && rest.get(s).is_some_and(|f| f.path_passes(map, h, my_home))
+                s == mate_slot(i, me) && rest.get(s).is_some_and(|f| f.path_passes(map, h, my_home))
             });
             let at = if waited_for {
                 ((p.pos.x as u16 as u32) << 16) | p.pos.y as u16 as u32
