@@ -5,14 +5,25 @@
 //! queue and run one after another. Times come from the one [`Timing`] of
 //! core-algo, so the planner's costs are the simulator's costs.
 //!
-//! Collision rules (what the e-puck's proximity layer does: stop, report,
+//! **The midpoint rule.** Every living body *holds* exactly one node: the
+//! node it stands or turns on; while it drives, the node it left up to the
+//! middle of the edge and the node ahead after it; while it turns back, the
+//! node it returns to. At the middle of an edge a body looks ahead (with
+//! nodes 100 mm apart and an e-puck 70 mm wide, a robot on the next node is
+//! well inside its proximity sensors' range by then): if another body holds
+//! the node ahead it turns back, else it takes the node ahead. So no two
+//! bodies ever hold one node, and no two bodies ever stand on one node.
+//! (Deciding only on arrival, as this module once did, let a body that
+//! turned back find its node taken by another: two bodies on one node.)
+//!
+//! Collisions (what the e-puck's proximity layer does: stop, report,
 //! return to the node it left):
-//! - **Head-on on an edge**: two bodies driving the same edge towards each
-//!   other meet in the middle of their overlap; both turn back, and each
-//!   reports a collision when it is back on its node.
-//! - **At a node**: a body arriving at a node another body occupies (standing,
-//!   turning, dead, or arrived earlier) turns back and reports a collision
-//!   on the node it left.
+//! - **Ahead is taken**: a body turns back at the middle of its edge, drives
+//!   back to the node it left and reports a collision there. A body
+//!   standing on the node ahead feels it coming (a bump on the side it came
+//!   from).
+//! - **Head-on**: two bodies driving one edge towards each other both hold
+//!   their own end until the middle, so both turn back there.
 //! - A dead robot is lifted off the field and blocks nobody.
 //! - **No line**: a move along an arm the node does not have finds no line:
 //!   the body stays and reports an abyss (the field's border).
@@ -33,14 +44,21 @@ enum Action {
     Scanning {
         until: u32,
     },
+    /// Driving `from` → `to`; holds `to` once `past_middle`.
     Driving {
         from: Pos,
         to: Pos,
         depart: u32,
         arrive: u32,
+        past_middle: bool,
     },
+    /// Driving back to `to` after turning at time `turned`, a fraction
+    /// `turned_at` (in thousandths) of the way towards `away`.
     Returning {
         to: Pos,
+        away: Pos,
+        turned: u32,
+        turned_at: u32,
         arrive: u32,
     },
 }
@@ -97,22 +115,58 @@ impl Body {
                 to,
                 depart,
                 arrive,
+                ..
             } => {
                 let f = f64::from(now.saturating_sub(depart))
                     / f64::from(arrive.saturating_sub(depart).max(1));
                 Some((from, to, f.clamp(0.0, 1.0)))
             }
+            Action::Returning {
+                to,
+                away,
+                turned,
+                turned_at,
+                arrive,
+            } => {
+                let left = f64::from(arrive.saturating_sub(now))
+                    / f64::from(arrive.saturating_sub(turned).max(1));
+                let f = f64::from(turned_at) / 1000.0 * left;
+                Some((to, away, f.clamp(0.0, 1.0)))
+            }
             _ => None,
         }
     }
 
-    /// The node the body blocks for others: where it stands, or the nearer
-    /// end of its edge.
-    fn occupied(&self) -> Option<Pos> {
+    /// The node this body holds (see the module docs): no other body may
+    /// stand on it or take it at the middle of an edge.
+    fn held(&self) -> Option<Pos> {
         match self.action {
             _ if !self.alive => None,
             Action::Idle | Action::Turning { .. } | Action::Scanning { .. } => Some(self.pos),
-            _ => None,
+            Action::Driving {
+                from,
+                to,
+                past_middle,
+                ..
+            } => Some(if past_middle { to } else { from }),
+            Action::Returning { to, .. } => Some(to),
+        }
+    }
+
+    /// When its current action next needs the simulator: its end, or the
+    /// middle of an edge.
+    fn due(&self) -> Option<u32> {
+        match self.action {
+            Action::Idle if !self.queue.is_empty() => Some(self.stalled_until),
+            Action::Idle => None,
+            Action::Turning { until } | Action::Scanning { until } => Some(until),
+            Action::Driving {
+                depart,
+                arrive,
+                past_middle: false,
+                ..
+            } => Some(depart + (arrive - depart) / 2),
+            Action::Driving { arrive, .. } | Action::Returning { arrive, .. } => Some(arrive),
         }
     }
 }
@@ -245,12 +299,7 @@ impl Bodies {
         self.bodies
             .iter()
             .filter(|b| b.alive)
-            .filter_map(|b| match b.action {
-                Action::Idle if !b.queue.is_empty() => Some(b.stalled_until),
-                Action::Idle => None,
-                Action::Turning { until } | Action::Scanning { until } => Some(until),
-                Action::Driving { arrive, .. } | Action::Returning { arrive, .. } => Some(arrive),
-            })
+            .filter_map(Body::due)
             .min()
     }
 
@@ -263,15 +312,7 @@ impl Bodies {
                 .iter()
                 .enumerate()
                 .filter(|(_, b)| b.alive)
-                .filter_map(|(i, b)| {
-                    let t = match b.action {
-                        Action::Idle if !b.queue.is_empty() => b.stalled_until,
-                        Action::Idle => return None,
-                        Action::Turning { until } | Action::Scanning { until } => until,
-                        Action::Driving { arrive, .. } | Action::Returning { arrive, .. } => arrive,
-                    };
-                    (t <= now).then_some((t, i))
-                })
+                .filter_map(|(i, b)| b.due().filter(|&t| t <= now).map(|t| (t, i)))
                 .min();
             let Some((t, i)) = due else { break };
             self.finish(i, t, reports);
@@ -302,41 +343,62 @@ impl Bodies {
                     ));
                 }
             }
-            Action::Driving { from, to, .. } => {
+            Action::Driving {
+                from,
+                to,
+                depart,
+                arrive,
+                past_middle: false,
+            } => {
+                // The middle of the edge: look ahead.
                 let blocker = self
                     .bodies
                     .iter()
                     .enumerate()
-                    .find(|(j, o)| *j != i && o.occupied() == Some(to))
-                    .map(|(j, o)| (j, o.alive && o.is_idle(), o.heading));
-                let blocked = blocker.is_some();
+                    .find(|(j, o)| *j != i && o.held() == Some(to))
+                    .map(|(j, o)| (j, o.is_idle(), o.heading));
                 if let (Some((j, true, facing)), Some(toward)) = (blocker, from_heading(to, from)) {
                     let side = Heading::from_index(toward.index() + 4 - facing.index());
                     reports.push((RobotId(j as u8), Report::Bumped { side }));
                 }
-                let edge = self.edge_ms(i);
                 if let Some(b) = self.bodies.get_mut(i) {
-                    if blocked {
+                    if blocker.is_some() {
+                        let span = arrive.saturating_sub(depart).max(1);
+                        let done = t.saturating_sub(depart);
                         b.heading = b.heading.opposite();
                         b.action = Action::Returning {
                             to: from,
-                            arrive: t + edge,
+                            away: to,
+                            turned: t,
+                            turned_at: done * 1000 / span,
+                            arrive: t + done,
                         };
                     } else {
-                        b.pos = to;
-                        b.action = Action::Idle;
-                        b.stats.edges += 1;
-                        if !b.visited.insert(to) {
-                            b.stats.revisits += 1;
-                        }
-                        let arms = self.truth.get(&to).copied().unwrap_or_default();
-                        reports.push((
-                            id,
-                            Report::NodeHit {
-                                relative: arms.to_relative(b.heading),
-                            },
-                        ));
+                        b.action = Action::Driving {
+                            from,
+                            to,
+                            depart,
+                            arrive,
+                            past_middle: true,
+                        };
                     }
+                }
+            }
+            Action::Driving { to, .. } => {
+                if let Some(b) = self.bodies.get_mut(i) {
+                    b.pos = to;
+                    b.action = Action::Idle;
+                    b.stats.edges += 1;
+                    if !b.visited.insert(to) {
+                        b.stats.revisits += 1;
+                    }
+                    let arms = self.truth.get(&to).copied().unwrap_or_default();
+                    reports.push((
+                        id,
+                        Report::NodeHit {
+                            relative: arms.to_relative(b.heading),
+                        },
+                    ));
                 }
             }
             Action::Returning { to, .. } => {
@@ -398,50 +460,19 @@ impl Bodies {
                     reports.push((RobotId(i as u8), Report::Abyss));
                     return;
                 };
-                // Head-on: someone drives this edge the other way.
-                let oncoming = self
-                    .bodies
-                    .iter()
-                    .enumerate()
-                    .find_map(|(j, o)| match o.action {
-                        Action::Driving {
-                            from,
-                            to: oto,
-                            depart,
-                            arrive,
-                        } if j != i && from == to && oto == pos && arrive > now => {
-                            Some((j, depart))
-                        }
-                        _ => None,
-                    });
-                if let Some((j, their_depart)) = oncoming {
-                    // Positions along the edge meet at t = (E + d_me + d_them) / 2.
-                    let meet = (edge + now + their_depart) / 2;
-                    if let Some(o) = self.bodies.get_mut(j) {
-                        o.heading = o.heading.opposite();
-                        o.action = Action::Returning {
-                            to,
-                            arrive: meet + (meet - their_depart),
-                        };
-                    }
-                    if let Some(b) = self.bodies.get_mut(i) {
-                        b.heading = heading.opposite();
-                        b.action = Action::Returning {
-                            to: pos,
-                            arrive: meet + (meet - now),
-                        };
-                    }
-                    return;
-                }
                 if let Some(b) = self.bodies.get_mut(i) {
                     b.action = Action::Driving {
                         from: pos,
                         to,
                         depart: now,
                         arrive: now + edge,
+                        past_middle: false,
                     };
                 }
             }
         }
     }
 }
+
+#[cfg(test)]
+mod tests;
