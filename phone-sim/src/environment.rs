@@ -244,14 +244,19 @@ impl Environment {
         };
         let visits = self.map.cell(pose.pos).visits();
         self.update_robot(id, |r| {
+            // The same node again is a robot telling its new heading (after
+            // a collision), not a drive.
+            let moved = r.pose.map(|p| p.pos) != Some(pose.pos);
             r.pose = Some(pose);
             r.home.get_or_insert(pose.pos);
-            r.driven += 1;
+            if moved {
+                r.driven += 1;
+                if !r.seen.insert(pose.pos) {
+                    r.revisits += 1;
+                }
+            }
             if ok && !known_before {
                 r.explored += 1;
-            }
-            if !r.seen.insert(pose.pos) {
-                r.revisits += 1;
             }
             if r.trail.last() != Some(&pose.pos) {
                 r.trail.push(pose.pos);

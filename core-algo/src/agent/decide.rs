@@ -4,6 +4,10 @@
 
 use super::*;
 
+/// See [`Agent::idle_patience`]: long against the time a report or an
+/// intent takes to reach the team, short against a run.
+pub(super) const IDLE_PATIENCE_EDGES: u32 = 30;
+
 impl<M, F, S, const K: usize> Agent<M, F, S, K>
 where
     M: AsRef<[Block]> + AsMut<[Block]>,
@@ -79,6 +83,30 @@ where
             .strategy
             .decide(&ctx, &mut self.fields)
             .unwrap_or(Decision::STAY);
+        // A strategy that shares the work out may tell every robot to wait
+        // when their views of the team differ (a heading not yet reported,
+        // an intent still in flight): each thinks another takes the last
+        // frontier, and nobody moves, so nothing changes. After a long wait
+        // with no map growth, go to the nearest frontier anyway.
+        let decision = if decision.goal == Goal::Wait {
+            let (now, revision, patience) = (self.now, self.map.revision(), self.idle_patience());
+            let since = match self.idle_since {
+                Some((r, t)) if r == revision => t,
+                _ => {
+                    self.idle_since = Some((revision, now));
+                    now
+                }
+            };
+            match self.fields.first_mut() {
+                Some(field) if now.wrapping_sub(since) > patience => {
+                    crate::explore::nearest_or_home(&ctx, field).unwrap_or(decision)
+                }
+                _ => decision,
+            }
+        } else {
+            self.idle_since = None;
+            decision
+        };
         let decision = if matches!(decision.goal, Goal::Home | Goal::Done) && self.map.is_complete()
         {
             self.keep_out_of_the_way(decision)
@@ -108,11 +136,19 @@ where
             Goal::Wait => {}
         }
         let Some(h) = decision.next else {
+            let edge_ms = self.config.timing.edge.saturating_mul(TICK_MS);
             if self.pos != self.home && (self.mode == Mode::Return || decision.goal == Goal::Wait) {
                 // Held back (or home unreachable for now): look again soon.
-                let edge_ms = self.config.timing.edge.saturating_mul(TICK_MS);
                 self.motion = Motion::Waiting {
                     until: self.now.wrapping_add(edge_ms),
+                };
+            } else if decision.goal == Goal::Wait {
+                // Waiting for work at home: the map's growth wakes us, and
+                // so does the end of our patience (see `decide`).
+                self.motion = Motion::Waiting {
+                    until: self
+                        .now
+                        .wrapping_add(self.idle_patience().saturating_add(edge_ms)),
                 };
             }
             self.check_finished(out);
@@ -132,6 +168,16 @@ where
                 self.start_move(out);
             }
         }
+    }
+
+    /// How long a robot waits for work while the map does not grow before
+    /// it goes to the nearest frontier itself.
+    pub(super) fn idle_patience(&self) -> Millis {
+        self.config
+            .timing
+            .edge
+            .saturating_mul(TICK_MS)
+            .saturating_mul(IDLE_PATIENCE_EDGES)
     }
 
     pub(super) fn start_move(&mut self, out: &mut Commands) {

@@ -460,50 +460,65 @@ where
             })
             .filter_map(|(_, q)| bounds.index(q.home))
             .collect();
-        let mut spot = None;
-        let mut first = true;
-        let found = loop {
-            let mut reached = |v: usize, _| {
-                if v != my_home
-                    && !homes.contains(&bounds.pos(v))
-                    && !on_someones_way(v)
-                    && !occupied(v)
-                {
-                    spot = Some(v);
-                    return Flow::Stop;
+        // Spots we cannot reach: the way from here runs through a team mate.
+        let mut unreachable: Vec<usize, 4> = Vec::new();
+        loop {
+            let mut spot = None;
+            let mut first = true;
+            let found = loop {
+                let mut reached = |v: usize, _| {
+                    if v != my_home
+                        && !homes.contains(&bounds.pos(v))
+                        && !on_someones_way(v)
+                        && !occupied(v)
+                        && !unreachable.contains(&v)
+                    {
+                        spot = Some(v);
+                        return Flow::Stop;
+                    }
+                    Flow::Continue
+                };
+                let result = if first {
+                    mine.compute(map, timing, self.home, Heading::North, &mut reached)
+                } else {
+                    mine.resume(map, &mut reached)
+                };
+                first = false;
+                let Some(v) = spot.filter(|_| result.is_ok()) else {
+                    break result;
+                };
+                let trapped = earlier.iter().any(|&h| mine.path_passes(map, v, h));
+                if !trapped {
+                    break result;
                 }
-                Flow::Continue
+                spot = None;
             };
-            let result = if first {
-                mine.compute(map, timing, self.home, Heading::North, &mut reached)
-            } else {
-                mine.resume(map, &mut reached)
+            let computed = match (found, spot) {
+                (Ok(()), Some(v)) if bounds.index(pos) != Some(v) => {
+                    mine.compute(map, timing, pos, heading, |u, _| {
+                        if u == v { Flow::Stop } else { Flow::Continue }
+                    })
+                }
+                (Ok(()), Some(_)) => return Decision::STAY,
+                (other, _) => other,
             };
-            first = false;
-            let Some(v) = spot.filter(|_| result.is_ok()) else {
-                break result;
+            let Some(v) = spot.filter(|_| computed.is_ok()) else {
+                return Decision::STAY;
             };
-            let trapped = earlier.iter().any(|&h| mine.path_passes(map, v, h));
-            if !trapped {
-                break result;
+            let through_mate = peers.iter().enumerate().any(|(i, q)| {
+                i != me
+                    && q.known
+                    && !q.failed
+                    && bounds
+                        .index(q.pos)
+                        .is_some_and(|at| mine.path_passes(map, v, at))
+            });
+            if !through_mate || unreachable.push(v).is_err() {
+                return Decision {
+                    goal: Goal::Home,
+                    next: mine.first_heading(map, v),
+                };
             }
-            spot = None;
-        };
-        let computed = match (found, spot) {
-            (Ok(()), Some(v)) if bounds.index(pos) != Some(v) => {
-                mine.compute(map, timing, pos, heading, |u, _| {
-                    if u == v { Flow::Stop } else { Flow::Continue }
-                })
-            }
-            (Ok(()), Some(_)) => return Decision::STAY,
-            (other, _) => other,
-        };
-        match (computed, spot) {
-            (Ok(()), Some(v)) => Decision {
-                goal: Goal::Home,
-                next: mine.first_heading(map, v),
-            },
-            _ => Decision::STAY,
         }
     }
 }

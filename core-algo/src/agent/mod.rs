@@ -125,6 +125,9 @@ pub struct Agent<M, F, S, const K: usize> {
     escaping: bool,
     yielding: bool,
     gated_since: Option<Millis>,
+    /// Since when (and at which map revision) the strategy has told us to
+    /// wait for work: see `decide`.
+    idle_since: Option<(u32, Millis)>,
     /// A digest of where the team mates we wait for stand and who is home:
     /// waiting lasts while it changes (see `keep_out_of_the_way`).
     gated_progress: u32,
@@ -176,6 +179,7 @@ where
             escaping: false,
             yielding: false,
             gated_since: None,
+            idle_since: None,
             gated_progress: 0,
             depth: [0; MAX_ROBOTS],
             depth_known: false,
@@ -365,7 +369,20 @@ where
                 self.plan_retreat(b);
             }
         }
-        let _ = out;
+        // Tell the team where we stand and which way we face now: a team
+        // mate that still sees us on the node ahead, facing it, plans the
+        // team's shares with the wrong costs. Two robots that each think
+        // the other is nearer the last frontier node both wait for ever.
+        if let Some(arms) = self.map.known_arms(from) {
+            push(
+                out,
+                Command::Report {
+                    pos: from,
+                    arms,
+                    heading: self.heading,
+                },
+            );
+        }
         Ok(())
     }
 

@@ -1,7 +1,8 @@
 use super::*;
 use crate::explore::NearestFrontier;
 use crate::map::{Bounds, blocks_for};
-use crate::path::min_cells;
+use crate::path::{PlanError, min_cells};
+use crate::timing::Timing;
 use std::vec;
 use std::vec::Vec as StdVec;
 
@@ -130,9 +131,23 @@ fn collision_backs_off_then_plans_again() {
     )
     .unwrap();
     assert_eq!(a.pose().0, Pos::new(1, 0));
-    // Met someone: back on (0, 0), facing west.
-    assert!(a.handle(100, Event::Collision).unwrap().is_empty());
+    // Met someone: back on (0, 0), facing west, and the team hears so
+    // (its shares are planned from where we stand and face).
+    let out = a.handle(100, Event::Collision).unwrap();
     assert_eq!(a.pose(), (Pos::new(0, 0), W));
+    assert!(
+        out.iter()
+            .all(|c| !matches!(c, Command::Move | Command::Turn(_))),
+        "{out:?}"
+    );
+    assert!(out.iter().any(|c| matches!(
+        c,
+        Command::Report {
+            pos,
+            heading: W,
+            ..
+        } if *pos == Pos::new(0, 0)
+    )));
     assert!(a.is_standing());
     // Nothing happens before the back-off ends...
     assert!(!a.handle(101, Event::Tick).unwrap().contains(&Command::Move));
@@ -395,4 +410,72 @@ fn a_lone_robot_comes_home_from_a_dead_end() {
         )
         .unwrap();
     assert!(out.contains(&Command::Turn(Turn::UTurn)), "{out:?}");
+}
+
+/// A strategy that always says "wait": the worst case of team mates whose
+/// views of the team differ, each leaving the work to another.
+struct AlwaysWait;
+
+impl<M, F> Strategy<M, F> for AlwaysWait
+where
+    M: AsRef<[Block]> + AsMut<[Block]>,
+    F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+{
+    fn name(&self) -> &'static str {
+        "always-wait"
+    }
+
+    fn decide(
+        &mut self,
+        _ctx: &Context<'_, M>,
+        _fields: &mut [DistField<F>],
+    ) -> Result<Decision, PlanError> {
+        Ok(Decision {
+            goal: Goal::Wait,
+            next: None,
+        })
+    }
+}
+
+#[test]
+fn a_robot_told_to_wait_while_nothing_changes_goes_exploring_itself() {
+    let bounds = Bounds::new(Pos::new(-1, -1), 6, 6);
+    let map = KnownMap::new(vec![Block::EMPTY; blocks_for(bounds.area())], bounds).unwrap();
+    let field = DistField::new(vec![PlanCell::EMPTY; min_cells(bounds.area())]);
+    let mut a: Agent<StdVec<Block>, StdVec<PlanCell>, AlwaysWait, 1> =
+        Agent::new(RobotId(0), map, [field], AlwaysWait, AgentConfig::default());
+    a.handle(
+        0,
+        Event::Start {
+            pos: Pos::new(0, 0),
+            heading: N,
+        },
+    )
+    .unwrap();
+    // At home, with an unexplored arm east.
+    let out = a
+        .handle(
+            10,
+            Event::NodeHit {
+                relative: arms(&[E]).to_relative(N),
+            },
+        )
+        .unwrap();
+    assert!(!out.contains(&Command::Move), "{out:?}");
+    let edge_ms = Timing::DEFAULT.edge * TICK_MS;
+    let mut moved_at = None;
+    for t in (20..edge_ms * 60).step_by(100) {
+        if a.handle(t, Event::Tick).unwrap().contains(&Command::Move) {
+            moved_at = Some(t);
+            break;
+        }
+    }
+    let t = moved_at.expect("it never went");
+    // Not before its patience ran out, and soon after.
+    assert!(t > edge_ms * decide::IDLE_PATIENCE_EDGES, "went at {t} ms");
+    assert!(
+        t < edge_ms * (decide::IDLE_PATIENCE_EDGES + 3),
+        "went at {t} ms"
+    );
+    assert_eq!(a.pose(), (Pos::new(1, 0), E));
 }
