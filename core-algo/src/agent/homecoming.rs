@@ -9,6 +9,10 @@ use super::*;
 /// read from a field rooted at their home (see `keep_out_of_the_way`).
 const NEAR_EDGES: u32 = 32;
 
+/// A retreat ends when the team mate it made way for has not moved for this
+/// many edges of time: it may be waiting for us (it let us go first).
+const RETREAT_PATIENCE_EDGES: u32 = 20;
+
 /// The planner field (after our own) that keeps team mate `i`'s way home:
 /// one slot per team mate, so a kept way survives other team mates' moves.
 fn mate_slot(i: usize, me: usize) -> usize {
@@ -169,6 +173,7 @@ where
         self.retreat = Some(Retreat {
             spot,
             bumper: b,
+            bumper_at: q.pos,
             since: self.now,
         });
         true
@@ -231,12 +236,25 @@ where
     }
 
     /// Drives to the retreat spot and holds there until the team mate that
-    /// bumped us is home (or failed, or a long time-out); `None` once the
-    /// retreat is over.
+    /// bumped us is home (or failed, or stood still for a while: it may be
+    /// waiting for us); `None` once the retreat is over.
     pub(super) fn retreat_decision(&mut self) -> Option<Decision> {
-        let r = self.retreat?;
+        let mut r = self.retreat?;
         let timing = self.config.timing;
-        let patience = timing.edge.saturating_mul(TICK_MS).saturating_mul(80);
+        if let Some(q) = self.peers.get(r.bumper).filter(|q| q.pos != r.bumper_at) {
+            r.bumper_at = q.pos;
+            r.since = self.now;
+            self.retreat = Some(r);
+        }
+        // Made way for a team mate whose home fills after ours (it stood
+        // in our way and had nowhere to go): once it stops moving it waits
+        // for us, so go soon.
+        let edges = if self.goes_first(r.bumper) {
+            RETREAT_PATIENCE_EDGES
+        } else {
+            3
+        };
+        let patience = timing.edge.saturating_mul(TICK_MS).saturating_mul(edges);
         let over = self
             .peers
             .get(r.bumper)

@@ -99,6 +99,8 @@ const NO_PEER: Peer = Peer {
 struct Retreat {
     spot: Pos,
     bumper: usize,
+    /// Where the bumper stood when we last saw it move, and when.
+    bumper_at: Pos,
     since: Millis,
 }
 
