@@ -242,6 +242,9 @@ pub struct Report {
     pub all_home: bool,
     /// Until the team was done, seconds.
     pub makespan_s: f64,
+    /// Until the phone's map was complete, seconds (the rest of the
+    /// makespan is the way home; `null`: the map never was).
+    pub mapped_s: Option<f64>,
     /// Lower bound with return to the starts (edge time only), seconds.
     pub lower_bound_s: f64,
     /// makespan / lower bound.
@@ -427,6 +430,7 @@ pub fn report(field: &Field, a: &ExploreArgs, timing: Timing, o: &Outcome, wall_
         map_correct: o.map_correct,
         all_home: o.all_home,
         makespan_s,
+        mapped_s: o.mapped_ms.map(|ms| f64::from(ms) / 1000.0),
         lower_bound_s,
         ratio: makespan_s / lower_bound_s.max(f64::MIN_POSITIVE),
         messages: o.messages,
@@ -581,8 +585,12 @@ fn print_report(
         );
     }
     crate::outln!(
-        "makespan {:.1} s, lower bound {:.1} s, ratio {:.2}; simulated in {:.3} s",
+        "makespan {:.1} s ({}), lower bound {:.1} s, ratio {:.2}; simulated in {:.3} s",
         r.makespan_s,
+        r.mapped_s.map_or_else(
+            || "the map was never complete".to_string(),
+            |s| format!("map complete at {s:.1} s")
+        ),
         r.lower_bound_s,
         r.ratio,
         r.wall_s

@@ -23,7 +23,7 @@ use std::path::PathBuf;
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-pub use report::{csv, markdown, svg_plot};
+pub use report::{csv, markdown, paired, svg_plot};
 
 /// The strategies the benchmark knows, in table order, by name.
 pub const STRATEGIES: [&str; 9] = [
@@ -97,9 +97,14 @@ pub struct BenchArgs {
     /// Side lengths of the generated fields.
     #[arg(long, value_delimiter = ',', default_values_t = [32u16, 64])]
     pub sizes: Vec<u16>,
-    /// Seed of the generated fields.
+    /// Seed of the generated fields (the first one with `--seeds`).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// How many generated fields of each kind and size, with seeds
+    /// `--seed`, `--seed`+1, ...: one field per kind says little when a
+    /// single decision can change a run by 10 %, so comparisons want many.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..=10_000))]
+    pub seeds: u64,
     /// Node spacing in millimetres (sets the edge time).
     #[arg(long, default_value_t = DEFAULT_NODE_SPACING_MM)]
     pub spacing_mm: u32,
@@ -176,6 +181,9 @@ pub fn run_system(
         revisits: o.robots.iter().map(|r| r.revisits).sum(),
         decisions: o.messages,
         deduced: field.nodes().len().saturating_sub(visited),
+        mapped: o
+            .mapped_ms
+            .map(|ms| ms.div_ceil(core_algo::timing::TICK_MS)),
     })
 }
 
@@ -323,13 +331,21 @@ pub fn run_jobs(
 }
 
 /// The project's generated default fields: maze, rooms, random and open of
-/// each size, with their six starts.
-pub fn default_fields(sizes: &[u16], seed: u64) -> Vec<BenchField> {
+/// each size, with their six starts, for `seeds` seeds from `seed` on. With
+/// one seed the names are `kind-size`, with more `kind-size-sSEED`.
+pub fn default_fields(sizes: &[u16], seed: u64, seeds: u64) -> Vec<BenchField> {
     let mut out = Vec::new();
     for &n in sizes {
         for kind in Kind::ALL {
-            let f = kind.generate(n, n, seed);
-            out.push(BenchField::from_field(&f, format!("{}-{n}", kind.name())));
+            for s in seed..seed.saturating_add(seeds.max(1)) {
+                let f = kind.generate(n, n, s);
+                let name = if seeds > 1 {
+                    format!("{}-{n}-s{s}", kind.name())
+                } else {
+                    format!("{}-{n}", kind.name())
+                };
+                out.push(BenchField::from_field(&f, name));
+            }
         }
     }
     out
@@ -360,7 +376,7 @@ pub fn main(args: BenchArgs) -> Result<(), Box<dyn std::error::Error>> {
         }
     }
     let fields = if args.inputs.is_empty() {
-        default_fields(&args.sizes, args.seed)
+        default_fields(&args.sizes, args.seed, args.seeds)
     } else {
         load_inputs(&args.inputs)?
     };

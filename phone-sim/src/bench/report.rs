@@ -2,6 +2,7 @@
 //! hand, so that text needs no font file).
 
 use super::Row;
+use core_algo::timing::Timing;
 use std::collections::BTreeSet;
 use std::fmt::Write;
 
@@ -62,10 +63,20 @@ pub fn markdown(rows: &[Row], strategies: &[String]) -> String {
     let ks: BTreeSet<usize> = rows.iter().map(|r| r.robots).collect();
     let maps: BTreeSet<&str> = rows.iter().map(|r| r.map.as_str()).collect();
     let mut s = String::new();
+    let names: Vec<&str> = maps.into_iter().collect();
+    let listed = if names.len() <= 12 {
+        names.join(", ")
+    } else {
+        format!(
+            "{} fields ({}, …, {})",
+            names.len(),
+            names.first().copied().unwrap_or(""),
+            names.last().copied().unwrap_or("")
+        )
+    };
     let _ = writeln!(
         s,
-        "Fields: {}. Makespan = until the last robot is home; lower bound valid under the completion rule, with return.\n",
-        maps.into_iter().collect::<Vec<_>>().join(", ")
+        "Fields: {listed}. Makespan = until the last robot is home; lower bound valid under the completion rule, with return.\n"
     );
     let _ = writeln!(s, "### Mean makespan / lower bound (time)\n");
     let mut head = String::from("| strategy |");
@@ -123,6 +134,133 @@ pub fn markdown(rows: &[Row], strategies: &[String]) -> String {
                 let _ = writeln!(s, "| {st} | {m:.1} | {:+.1}% |", 100.0 * (nf - m) / nf);
             }
         }
+    }
+    if rows
+        .iter()
+        .any(|r| r.robots >= 2 && r.stats.mapped.is_some())
+    {
+        let _ = writeln!(
+            s,
+            "\n### Where the time goes, complete runs, k ≥ 2: until the map is complete, then the way home (mean, in lower bounds)\n"
+        );
+        let _ = writeln!(
+            s,
+            "| strategy | map complete | way home | makespan |\n|---|---|---|---|"
+        );
+        for st in strategies {
+            let team: Vec<&Row> = rows
+                .iter()
+                .filter(|r| &r.strategy == st && r.robots >= 2 && r.stats.complete)
+                .collect();
+            let mapped = |r: &&Row| {
+                r.stats.mapped.map(|t| {
+                    Timing::seconds(u64::from(t)) / r.lower_bound_s().max(f64::MIN_POSITIVE)
+                })
+            };
+            let (Some(m), Some(all)) = (
+                mean(team.iter().filter_map(mapped)),
+                mean(
+                    team.iter()
+                        .filter(|r| mapped(r).is_some())
+                        .map(|r| r.ratio()),
+                ),
+            ) else {
+                continue;
+            };
+            let _ = writeln!(s, "| {st} | {m:.3} | {:.3} | {all:.3} |", all - m);
+        }
+    }
+    let reference = if strategies.iter().any(|s| s == "nearest") {
+        "nearest"
+    } else {
+        strategies.first().map_or("", String::as_str)
+    };
+    if rows.iter().any(|r| r.robots >= 2) && !reference.is_empty() {
+        let _ = writeln!(
+            s,
+            "\n### Paired: each strategy's makespan against {reference}'s on the same field and team, k ≥ 2\n"
+        );
+        s.push_str(&paired(rows, strategies, reference));
+    }
+    s
+}
+
+/// Paired comparison of every strategy's makespan with a reference
+/// strategy's on the same (field, team size), k ≥ 2: the geometric mean of
+/// the ratio with a 95 % interval (normal approximation on the logs), wins
+/// and losses, and the worst pair against the best other strategy there
+/// (the "never more than 3 % worse than the best rival").
+///
+/// Why paired: fields differ far more than strategies do, so comparing the
+/// means of two strategies over fields hides a consistent difference in the
+/// spread between fields; the per-pair ratio removes it.
+pub fn paired(rows: &[Row], strategies: &[String], reference: &str) -> String {
+    use std::collections::BTreeMap;
+    let mut by_pair: BTreeMap<(&str, usize), BTreeMap<&str, f64>> = BTreeMap::new();
+    for r in rows.iter().filter(|r| r.robots >= 2) {
+        by_pair
+            .entry((r.map.as_str(), r.robots))
+            .or_default()
+            .insert(r.strategy.as_str(), r.makespan_s());
+    }
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "| strategy | makespan vs {reference} (geometric mean) | 95 % interval | faster / slower / equal | worst pair vs best other |\n|---|---|---|---|---|"
+    );
+    for st in strategies {
+        let mut logs = Vec::new();
+        let (mut win, mut lose, mut tie) = (0, 0, 0);
+        let mut worst: Option<(f64, &str, usize)> = None;
+        for ((map, k), runs) in &by_pair {
+            let Some(&m) = runs.get(st.as_str()) else {
+                continue;
+            };
+            if let Some(&base) = runs.get(reference) {
+                if m > 0.0 && base > 0.0 {
+                    logs.push((m / base).ln());
+                }
+                match m.partial_cmp(&base) {
+                    Some(std::cmp::Ordering::Less) => win += 1,
+                    Some(std::cmp::Ordering::Greater) => lose += 1,
+                    _ => tie += 1,
+                }
+            }
+            let best_other = runs
+                .iter()
+                .filter(|(name, _)| **name != st.as_str())
+                .map(|(_, v)| *v)
+                .fold(f64::INFINITY, f64::min);
+            if best_other.is_finite() && best_other > 0.0 {
+                let q = m / best_other;
+                if worst.is_none_or(|w| q > w.0) {
+                    worst = Some((q, map, *k));
+                }
+            }
+        }
+        let n = logs.len() as f64;
+        let worst = worst.map_or_else(
+            || "—".to_string(),
+            |(q, map, k)| format!("{:+.1} % ({map}, k={k})", 100.0 * (q - 1.0)),
+        );
+        if logs.is_empty() {
+            let _ = writeln!(s, "| {st} | — | — | — | {worst} |");
+            continue;
+        }
+        let m = logs.iter().sum::<f64>() / n;
+        let var = if logs.len() > 1 {
+            logs.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0)
+        } else {
+            0.0
+        };
+        let half = 1.96 * (var / n).sqrt();
+        let _ = writeln!(
+            s,
+            "| {st} | {:.3} | {:.3}–{:.3} | {win} / {lose} / {tie} | {worst} |",
+            m.exp(),
+            (m - half).exp(),
+            (m + half).exp()
+        );
     }
     s
 }
@@ -240,4 +378,61 @@ pub fn svg_plot(rows: &[Row], strategies: &[String]) -> String {
     }
     s.push_str("</svg>\n");
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::world::RunStats;
+
+    fn row(map: &str, k: usize, strategy: &str, makespan_ticks: u32) -> Row {
+        Row {
+            map: map.into(),
+            robots: k,
+            strategy: strategy.into(),
+            stats: RunStats {
+                complete: true,
+                makespan: makespan_ticks,
+                edges: vec![1; k],
+                turns: vec![0; k],
+                revisits: 0,
+                decisions: 0,
+                deduced: 0,
+                mapped: None,
+            },
+            lower_bound_edges: 1,
+            timing: Timing::from_hardware(100, 600),
+        }
+    }
+
+    #[test]
+    fn paired_reports_the_geometric_mean_and_the_worst_pair() {
+        // b is half as fast as a on one pair and twice as fast on the
+        // other: geometric mean 1; against the best other (a), b's worst
+        // pair is +100 % on f1.
+        let rows = vec![
+            row("f1", 2, "a", 100),
+            row("f1", 2, "b", 200),
+            row("f2", 2, "a", 200),
+            row("f2", 2, "b", 100),
+            // k = 1 never counts.
+            row("f3", 1, "a", 100),
+            row("f3", 1, "b", 900),
+        ];
+        let names = vec!["a".to_string(), "b".to_string()];
+        let t = paired(&rows, &names, "a");
+        let b = t
+            .lines()
+            .find(|l| l.starts_with("| b |"))
+            .expect("b's line");
+        assert!(b.contains("| 1.000 |"), "{b}");
+        assert!(b.contains("1 / 1 / 0"), "{b}");
+        assert!(b.contains("+100.0 % (f1, k=2)"), "{b}");
+        let a = t
+            .lines()
+            .find(|l| l.starts_with("| a |"))
+            .expect("a's line");
+        assert!(a.contains("| 1.000 | 1.000–1.000 | 0 / 0 / 2 |"), "{a}");
+        assert!(a.contains("+100.0 % (f2, k=2)"), "{a}");
+    }
 }

@@ -153,6 +153,8 @@ pub struct Simulation {
     phone: PhoneSide,
     paused: bool,
     done_at: Option<u32>,
+    /// When the phone's map first had no frontier left.
+    mapped_at: Option<u32>,
     linger: bool,
     localized_at: Vec<Option<u32>>,
 }
@@ -254,6 +256,7 @@ impl Simulation {
             .with_localize(config.localize),
             paused: false,
             done_at: None,
+            mapped_at: None,
             linger: false,
             localized_at: vec![None; robots],
             field: field.clone(),
@@ -425,6 +428,12 @@ impl Simulation {
         }
         self.phone.process(now, &mut self.proxies);
         self.note_localized();
+        if self.mapped_at.is_none() {
+            let map = self.phone.env().map();
+            if map.visited_len() > 0 && map.is_complete() {
+                self.mapped_at = Some(now);
+            }
+        }
         if self.done_at.is_none() && self.team_done() {
             self.done_at = Some(now);
         }
@@ -512,6 +521,7 @@ impl Simulation {
             self.true_to_team(),
         );
         o.localization = self.config.localize.map(|_| self.localization());
+        o.mapped_ms = self.mapped_at;
         o
     }
 }
@@ -570,6 +580,7 @@ pub fn outcome_of(
         conflicts: stats.conflicts,
         unhandled: stats.unhandled,
         localization: None,
+        mapped_ms: None,
     }
 }
 
@@ -674,4 +685,7 @@ pub struct Outcome {
     pub unhandled: u64,
     /// How localization went (`None`: start poses were given).
     pub localization: Option<Localization>,
+    /// When the phone's merged map first had no frontier left, ms (`None`:
+    /// never, or not tracked). The rest of the makespan is the way home.
+    pub mapped_ms: Option<u32>,
 }

@@ -167,6 +167,9 @@ pub struct RunStats {
     pub decisions: u64,
     /// Nodes that were never visited but are known (deduced).
     pub deduced: usize,
+    /// Ticks until the map was complete (no frontier left); the rest of
+    /// the makespan is the way home. `None`: it never was.
+    pub mapped: Option<Ticks>,
 }
 
 impl RunStats {
@@ -255,6 +258,7 @@ pub fn run<S: Strategy<Vec<Block>, Vec<PlanCell>> + ?Sized>(
         revisits: 0,
         decisions: 0,
         deduced: 0,
+        mapped: None,
     };
     let limit = config
         .decisions_per_node
@@ -300,6 +304,9 @@ pub fn run<S: Strategy<Vec<Block>, Vec<PlanCell>> + ?Sized>(
             }
             if was_visited {
                 stats.revisits += 1;
+            }
+            if stats.mapped.is_none() && map.is_complete() {
+                stats.mapped = Some(now);
             }
         }
         views.clear();
