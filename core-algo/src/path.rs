@@ -760,6 +760,31 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         walked && hit
     }
 
+    /// The first node, walking the cheapest path back from node `target`
+    /// (included) towards the start (included), for which `pred` holds;
+    /// `None` if none does or `target` was not reached. A retreat uses it
+    /// to find where its way leaves a team mate's.
+    pub fn first_back<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        target: usize,
+        mut pred: impl FnMut(usize) -> bool,
+    ) -> Option<usize> {
+        let mut found = None;
+        let walked = self.walk_back_while(map, target, |v, _, _| {
+            if pred(v) {
+                found = Some(v);
+                Flow::Stop
+            } else {
+                Flow::Continue
+            }
+        });
+        if !walked {
+            return None;
+        }
+        found.or_else(|| self.start.map(|(s0, _)| s0).filter(|&s0| pred(s0)))
+    }
+
     /// Writes the nodes of the cheapest path to node `target` into `out`,
     /// start node first; returns their number, or `None` if `target` was
     /// not reached or `out` is too short.

@@ -113,6 +113,35 @@ fn packed_homes_found_by_the_deadlock_hunt() {
     }
 }
 
+/// A robot that made way for a team mate with a deeper home follows it
+/// once it is ahead on the way home, instead of standing until it is home
+/// and then driving the same long way alone. On the demo field (rooms, the
+/// starts packed in a corner far from where exploring ends) the way home
+/// took 83 s of a 193 s run that way; now it takes 47 s.
+#[test]
+fn robots_that_made_way_follow_their_team_mate_home() {
+    let f = phone_sim::cli::demo_field().unwrap();
+    let config = SimConfig {
+        faults: Faults {
+            channel: ChannelFaults {
+                latency_ms: 10,
+                jitter_ms: 5,
+                ..ChannelFaults::default()
+            },
+            ..Faults::default()
+        },
+        ..SimConfig::default()
+    };
+    let (o, sim) = run(&f, 4, "tempo", config);
+    assert_sound(&o, &sim, "demo with 4 robots");
+    let mapped = o.mapped_ms.expect("the map was complete");
+    assert!(
+        o.makespan_ms - mapped < 60_000,
+        "the way home took {} ms",
+        o.makespan_ms - mapped
+    );
+}
+
 #[test]
 fn maze_homecoming_with_queued_robots() {
     let f = field::generate::maze(8, 8, 1);

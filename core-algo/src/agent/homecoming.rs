@@ -2,16 +2,13 @@
 //! where they get in each other's way. Two behaviours keep the team moving:
 //! a robot standing in someone's way makes way when bumped, and a returning
 //! robot whose home lies on a team mate's way home waits off that way.
+//! A bumped robot whose bumper goes first retreats (see `retreat`).
 
 use super::*;
 
 /// Team mates farther from home than this many edges have their way home
 /// read from a field rooted at their home (see `keep_out_of_the_way`).
 const NEAR_EDGES: u32 = 32;
-
-/// A retreat ends when the team mate it made way for has not moved for this
-/// many edges of time: it may be waiting for us (it let us go first).
-const RETREAT_PATIENCE_EDGES: u32 = 20;
 
 /// The planner field (after our own) that keeps team mate `i`'s way home:
 /// one slot per team mate, so a kept way survives other team mates' moves.
@@ -138,155 +135,6 @@ where
             && self.map.is_complete()
             && i != me
             && (theirs, core::cmp::Reverse(i)) > (mine, core::cmp::Reverse(me))
-    }
-
-    /// Plans a retreat out of team mate `b`'s way (to its target, else
-    /// home) and starts it (the next decision drives it); whether there is
-    /// somewhere to go.
-    pub(super) fn plan_retreat(&mut self, b: usize) -> bool {
-        let bounds = self.map.bounds();
-        let Some(q) = self.peers.get(b).copied().filter(|q| q.known && !q.failed) else {
-            return false;
-        };
-        let Some(goal) = bounds.index(q.target.unwrap_or(q.home)) else {
-            return false;
-        };
-        let (map, timing) = (&self.map, self.config.timing);
-        let Some(field) = self.fields.first_mut() else {
-            return false;
-        };
-        let reached = field
-            .compute(map, timing, q.pos, q.heading, |v, _| {
-                if v == goal {
-                    Flow::Stop
-                } else {
-                    Flow::Continue
-                }
-            })
-            .is_ok();
-        if !reached || field.dist_at(goal).is_none() {
-            return false;
-        }
-        let Some(spot) = self.retreat_spot(goal, q.pos) else {
-            return false;
-        };
-        self.retreat = Some(Retreat {
-            spot,
-            bumper: b,
-            bumper_at: q.pos,
-            since: self.now,
-        });
-        true
-    }
-
-    /// The nearest node to retreat to from a bumper standing at `from`
-    /// whose way ends at node `goal` (planned in the first field): off that
-    /// way, nobody else's home, not taken, and reached without driving
-    /// through the bumper. Plans in the second field; `None` with a single
-    /// field or if there is no such node.
-    fn retreat_spot(&mut self, goal: usize, from: Pos) -> Option<Pos> {
-        let bounds = self.map.bounds();
-        let blocked = bounds.index(from)?;
-        let (me, map, peers) = (self.id.index(), &self.map, &self.peers);
-        let timing = self.config.timing;
-        let (theirs, rest) = self.fields.split_first_mut()?;
-        let (mine, rest) = rest.split_first_mut()?;
-        // With a third field: not behind the bumper's goal as seen from
-        // our home, or we would only be shut in once it is there.
-        let home = self.home;
-        let homeward = rest.first_mut().and_then(|f| {
-            f.compute(map, timing, home, Heading::North, |_, _| Flow::Continue)
-                .is_ok()
-                .then_some(&*f)
-        });
-        let theirs = &*theirs;
-        let free = |v: usize| {
-            let p = bounds.pos(v);
-            v != blocked
-                && !theirs.path_passes(map, goal, v)
-                && !homeward.is_some_and(|f| f.path_passes(map, v, goal))
-                && !peers
-                    .iter()
-                    .enumerate()
-                    .any(|(i, q)| i != me && q.known && !q.failed && (q.home == p || q.pos == p))
-        };
-        let mut found = None;
-        let mut first = true;
-        loop {
-            let mut reached = |v: usize, d: Ticks| {
-                if d > 0 && free(v) {
-                    found = Some(v);
-                    Flow::Stop
-                } else {
-                    Flow::Continue
-                }
-            };
-            let result = if first {
-                mine.compute(map, timing, self.pos, self.heading, &mut reached)
-            } else {
-                mine.resume(map, &mut reached)
-            };
-            first = false;
-            result.ok()?;
-            let v = found.take()?;
-            if !mine.path_passes(map, v, blocked) {
-                return Some(bounds.pos(v));
-            }
-        }
-    }
-
-    /// Drives to the retreat spot and holds there until the team mate that
-    /// bumped us is home (or failed, or stood still for a while: it may be
-    /// waiting for us); `None` once the retreat is over.
-    pub(super) fn retreat_decision(&mut self) -> Option<Decision> {
-        let mut r = self.retreat?;
-        let timing = self.config.timing;
-        if let Some(q) = self.peers.get(r.bumper).filter(|q| q.pos != r.bumper_at) {
-            r.bumper_at = q.pos;
-            r.since = self.now;
-            self.retreat = Some(r);
-        }
-        // Made way for a team mate whose home fills after ours (it stood
-        // in our way and had nowhere to go): once it stops moving it waits
-        // for us, so go soon.
-        let edges = if self.goes_first(r.bumper) {
-            RETREAT_PATIENCE_EDGES
-        } else {
-            3
-        };
-        let patience = timing.edge.saturating_mul(TICK_MS).saturating_mul(edges);
-        let over = self
-            .peers
-            .get(r.bumper)
-            .is_none_or(|q| !q.known || q.failed || q.pos == q.home)
-            || self.now.wrapping_sub(r.since) > patience
-            || !self.map.is_complete();
-        let bounds = self.map.bounds();
-        let spot = bounds.index(r.spot);
-        let (pos, heading, map) = (self.pos, self.heading, &self.map);
-        let next = match (over, spot, self.fields.get_mut(1)) {
-            (false, Some(spot), Some(field)) if r.spot != pos => {
-                let reached = field
-                    .compute(map, timing, pos, heading, |v, _| {
-                        if v == spot {
-                            Flow::Stop
-                        } else {
-                            Flow::Continue
-                        }
-                    })
-                    .is_ok();
-                reached.then(|| field.first_heading(map, spot)).flatten()
-            }
-            _ => None,
-        };
-        if over || (next.is_none() && r.spot != pos) {
-            self.retreat = None;
-            return None;
-        }
-        Some(Decision {
-            goal: Goal::Home,
-            next,
-        })
     }
 
     /// Homecoming without deadlock: robots cannot pass each other on a

@@ -44,6 +44,7 @@ pub mod firmware;
 mod homecoming;
 mod io;
 mod localizing;
+mod retreat;
 
 pub use io::{AgentConfig, AgentError, Command, Event, ManualOrder, Mode, PeerNews};
 #[cfg(test)]
@@ -98,6 +99,10 @@ const NO_PEER: Peer = Peer {
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 struct Retreat {
     spot: Pos,
+    /// Where our way to the spot leaves the bumper's way: once the bumper
+    /// is past it, we can only follow it, never meet it head-on. `None`
+    /// when the bumper's way does not come through where we stood.
+    leave: Option<Pos>,
     bumper: usize,
     /// Where the bumper stood when we last saw it move, and when.
     bumper_at: Pos,
@@ -225,6 +230,12 @@ where
     /// The announced target.
     pub fn target(&self) -> Option<Pos> {
         self.target
+    }
+
+    /// The spot it retreats to out of a team mate's way home, and that team
+    /// mate, while it does (for views and traces).
+    pub fn retreating(&self) -> Option<(Pos, RobotId)> {
+        self.retreat.map(|r| (r.spot, RobotId(r.bumper as u8)))
     }
 
     /// The robot's own map.

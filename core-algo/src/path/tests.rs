@@ -120,6 +120,11 @@ fn straight_corridor_costs_edges_and_turns() {
         ]
     );
     assert_eq!(f.first_heading(&map, 0), None);
+    // Walking back from (3, 0): the target first, the start last.
+    assert_eq!(f.first_back(&map, 3, |_| true), Some(3));
+    assert_eq!(f.first_back(&map, 3, |v| v < 2), Some(1));
+    assert_eq!(f.first_back(&map, 3, |v| v == 0), Some(0));
+    assert_eq!(f.first_back(&map, 2, |v| v == 3), None, "not on the path");
 }
 
 #[test]

@@ -1,0 +1,297 @@
+//! Retreats: a robot bumped by a team mate whose home fills first (or one
+//! it keeps running into) drives to the nearest node off that team mate's
+//! way and holds there until the team mate no longer needs the way: it is
+//! home, has failed, has stood still for a while, or is ahead of us on our
+//! own way home, so that we can follow it.
+
+use super::*;
+
+/// A retreat may end before the team mate it made way for is home, to follow
+/// it, only while home is farther than this many edges.
+const FOLLOW_FROM_EDGES: u32 = 8;
+
+/// A retreat ends when the team mate it made way for has not moved for this
+/// many edges of time: it may be waiting for us (it let us go first).
+const RETREAT_PATIENCE_EDGES: u32 = 20;
+
+impl<M, F, S, const K: usize> Agent<M, F, S, K>
+where
+    M: AsRef<[Block]> + AsMut<[Block]>,
+    F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+    S: Strategy<M, F>,
+{
+    /// Plans a retreat out of team mate `b`'s way (to its target, else
+    /// home) and starts it (the next decision drives it); whether there is
+    /// somewhere to go.
+    pub(super) fn plan_retreat(&mut self, b: usize) -> bool {
+        let bounds = self.map.bounds();
+        let Some(q) = self.peers.get(b).copied().filter(|q| q.known && !q.failed) else {
+            return false;
+        };
+        let Some(goal) = bounds.index(q.target.unwrap_or(q.home)) else {
+            return false;
+        };
+        let (map, timing) = (&self.map, self.config.timing);
+        let Some(field) = self.fields.first_mut() else {
+            return false;
+        };
+        let reached = field
+            .compute(map, timing, q.pos, q.heading, |v, _| {
+                if v == goal {
+                    Flow::Stop
+                } else {
+                    Flow::Continue
+                }
+            })
+            .is_ok();
+        if !reached || field.dist_at(goal).is_none() {
+            return false;
+        }
+        let Some((spot, leave)) = self.retreat_spot(goal, q.pos) else {
+            return false;
+        };
+        self.retreat = Some(Retreat {
+            spot,
+            leave,
+            bumper: b,
+            bumper_at: q.pos,
+            since: self.now,
+        });
+        true
+    }
+
+    /// The nearest node to retreat to from a bumper standing at `from`
+    /// whose way ends at node `goal` (planned in the first field): off that
+    /// way, nobody else's home, not taken, and reached without driving
+    /// through the bumper; and the node where our way there leaves the
+    /// bumper's way (where we stand, at the latest; `None` if its way does
+    /// not come through here). Plans in the second
+    /// field; `None` with a single field or if there is no such node.
+    fn retreat_spot(&mut self, goal: usize, from: Pos) -> Option<(Pos, Option<Pos>)> {
+        let bounds = self.map.bounds();
+        let blocked = bounds.index(from)?;
+        let (me, map, peers) = (self.id.index(), &self.map, &self.peers);
+        let timing = self.config.timing;
+        let (theirs, rest) = self.fields.split_first_mut()?;
+        let (mine, rest) = rest.split_first_mut()?;
+        // With a third field: not behind the bumper's goal as seen from
+        // our home, or we would only be shut in once it is there.
+        let home = self.home;
+        let homeward = rest.first_mut().and_then(|f| {
+            f.compute(map, timing, home, Heading::North, |_, _| Flow::Continue)
+                .is_ok()
+                .then_some(&*f)
+        });
+        let theirs = &*theirs;
+        let free = |v: usize| {
+            let p = bounds.pos(v);
+            v != blocked
+                && !theirs.path_passes(map, goal, v)
+                && !homeward.is_some_and(|f| f.path_passes(map, v, goal))
+                && !peers
+                    .iter()
+                    .enumerate()
+                    .any(|(i, q)| i != me && q.known && !q.failed && (q.home == p || q.pos == p))
+        };
+        let mut found = None;
+        let mut first = true;
+        loop {
+            let mut reached = |v: usize, d: Ticks| {
+                if d > 0 && free(v) {
+                    found = Some(v);
+                    Flow::Stop
+                } else {
+                    Flow::Continue
+                }
+            };
+            let result = if first {
+                mine.compute(map, timing, self.pos, self.heading, &mut reached)
+            } else {
+                mine.resume(map, &mut reached)
+            };
+            first = false;
+            result.ok()?;
+            let v = found.take()?;
+            if !mine.path_passes(map, v, blocked) {
+                // Only a bumper whose way comes through here can be seen to
+                // pass; one that bumped us on its way elsewhere (to a retreat
+                // spot of its own, say) cannot.
+                let here = bounds
+                    .index(self.pos)
+                    .filter(|&h| theirs.path_passes(map, goal, h));
+                let leave = here.and_then(|h| {
+                    mine.first_back(map, v, |u| u == h || theirs.path_passes(map, goal, u))
+                });
+                return Some((bounds.pos(v), leave.map(|u| bounds.pos(u))));
+            }
+        }
+    }
+
+    /// Drives to the retreat spot and holds there until the team mate that
+    /// bumped us is home (or failed, or stood still for a while: it may be
+    /// waiting for us); `None` once the retreat is over.
+    pub(super) fn retreat_decision(&mut self) -> Option<Decision> {
+        let mut r = self.retreat?;
+        let timing = self.config.timing;
+        if let Some(q) = self.peers.get(r.bumper).filter(|q| q.pos != r.bumper_at) {
+            r.bumper_at = q.pos;
+            r.since = self.now;
+            self.retreat = Some(r);
+        }
+        // Made way for a team mate whose home fills after ours (it stood
+        // in our way and had nowhere to go): once it stops moving it waits
+        // for us, so go soon.
+        let edges = if self.goes_first(r.bumper) {
+            RETREAT_PATIENCE_EDGES
+        } else {
+            3
+        };
+        let patience = timing.edge.saturating_mul(TICK_MS).saturating_mul(edges);
+        let over = self
+            .peers
+            .get(r.bumper)
+            .is_none_or(|q| !q.known || q.failed || q.pos == q.home)
+            || self.now.wrapping_sub(r.since) > patience
+            || !self.map.is_complete()
+            || self.may_follow() && (self.bumper_passed(r) || self.bumper_ahead(r));
+        let bounds = self.map.bounds();
+        let spot = bounds.index(r.spot);
+        let (pos, heading, map) = (self.pos, self.heading, &self.map);
+        let next = match (over, spot, self.fields.get_mut(1)) {
+            (false, Some(spot), Some(field)) if r.spot != pos => {
+                let reached = field
+                    .compute(map, timing, pos, heading, |v, _| {
+                        if v == spot {
+                            Flow::Stop
+                        } else {
+                            Flow::Continue
+                        }
+                    })
+                    .is_ok();
+                reached.then(|| field.first_heading(map, spot)).flatten()
+            }
+            _ => None,
+        };
+        if over || (next.is_none() && r.spot != pos) {
+            self.retreat = None;
+            return None;
+        }
+        Some(Decision {
+            goal: Goal::Home,
+            next,
+        })
+    }
+
+    /// Whether a retreat may end to follow the team mate it made way for:
+    /// only far from home. Near the homes the order in which robots arrive
+    /// decides whether they can get in at all (a follower that arrives
+    /// right behind a deeper team mate can end up swapped with it in a
+    /// dead end: three times the deadlocks on crowded small fields). Checked
+    /// before planning anything: the fields hold team mates' kept ways.
+    fn may_follow(&self) -> bool {
+        self.pos.manhattan(self.home) > FOLLOW_FROM_EDGES
+    }
+
+    /// Whether the team mate we retreated from has driven past the node
+    /// where our way to the retreat spot left its way: from there on its
+    /// way (to its target, else home) no longer comes through, so going on
+    /// can only follow it, never meet it head-on. Waiting until it is home
+    /// instead had robots stand for the whole of a long trip home and then
+    /// drive it alone (the demo field: 45 s of 193 s). Plans in the first
+    /// field.
+    fn bumper_passed(&mut self, r: Retreat) -> bool {
+        let bounds = self.map.bounds();
+        let Some(q) = self.peers.get(r.bumper).copied() else {
+            return false;
+        };
+        let (Some(goal), Some(leave)) = (
+            bounds.index(q.target.unwrap_or(q.home)),
+            r.leave.and_then(|p| bounds.index(p)),
+        ) else {
+            return false;
+        };
+        if Some(q.pos) == r.leave {
+            return false;
+        }
+        let (map, timing) = (&self.map, self.config.timing);
+        let Some(field) = self.fields.first_mut() else {
+            return false;
+        };
+        let reached = field
+            .compute(map, timing, q.pos, q.heading, |v, _| {
+                if v == goal {
+                    Flow::Stop
+                } else {
+                    Flow::Continue
+                }
+            })
+            .is_ok()
+            && field.dist_at(goal).is_some();
+        reached && !field.path_passes(map, goal, leave)
+    }
+
+    /// Whether the team mate we retreated from is ahead of us on the way
+    /// we would take home now: where our way first meets its way (to its
+    /// target, else home), it drives on in our direction and gets there two
+    /// edges before we could. Then going now only follows it. Holding until
+    /// it is home instead had robots stand for the whole of its trip and
+    /// then drive the same way alone. Plans in the first two fields.
+    fn bumper_ahead(&mut self, r: Retreat) -> bool {
+        let bounds = self.map.bounds();
+        let Some(q) = self.peers.get(r.bumper).copied() else {
+            return false;
+        };
+        let (Some(goal), Some(home), Some(here)) = (
+            bounds.index(q.target.unwrap_or(q.home)),
+            bounds.index(self.home),
+            bounds.index(self.pos),
+        ) else {
+            return false;
+        };
+        let (map, timing, pos, heading) = (&self.map, self.config.timing, self.pos, self.heading);
+        let Some((theirs, rest)) = self.fields.split_first_mut() else {
+            return false;
+        };
+        let Some(mine) = rest.first_mut() else {
+            return false;
+        };
+        let stop_at =
+            |g: usize| move |v: usize, _| if v == g { Flow::Stop } else { Flow::Continue };
+        let planned = theirs
+            .compute(map, timing, q.pos, q.heading, stop_at(goal))
+            .is_ok()
+            && theirs.dist_at(goal).is_some()
+            && mine
+                .compute(map, timing, pos, heading, stop_at(home))
+                .is_ok()
+            && mine.dist_at(home).is_some();
+        if !planned {
+            return false;
+        }
+        let at = bounds.index(q.pos);
+        let on_theirs = |v: usize| Some(v) == at || theirs.path_passes(map, goal, v);
+        // Walking our way back from home: the last shared node seen is the
+        // first we would meet, the one before it the next.
+        let (mut first, mut next) = (None, None);
+        mine.first_back(map, home, |v| {
+            if v != here && on_theirs(v) {
+                next = first;
+                first = Some(v);
+            }
+            false
+        });
+        let Some(first) = first else {
+            // Our ways never meet.
+            return true;
+        };
+        let (Some(ours), Some(their)) = (mine.dist_at(first), theirs.dist_at(first)) else {
+            return false;
+        };
+        let same_way = next.is_none_or(|n| theirs.dist_at(n).is_some_and(|d| d > their));
+        // Standing on our way, it must be on the move: one that waits (for a
+        // team mate of its own) would only be run into.
+        let moving = Some(first) != at
+            || self.now.wrapping_sub(r.since) < timing.edge.saturating_mul(2 * TICK_MS);
+        same_way && moving && their.saturating_add(timing.edge.saturating_mul(2)) <= ours
+    }
+}
