@@ -147,3 +147,51 @@ fn seed_explorer_prefers_unclaimed_ground_and_ties_go_south_west() {
     let d = NearestFrontier.decide(&ctx, &mut fields).unwrap();
     assert_eq!(d.goal, Goal::Frontier(Pos::new(2, 0)));
 }
+
+/// Tempo's home pull: of two frontier nodes equally far from the robot,
+/// the one farther from its home goes first; move the home and the choice
+/// follows.
+#[test]
+fn tempo_explores_away_from_home_first() {
+    // A corridor x = 0..=6 at y = 0; x = 1..=5 visited, so the frontier is
+    // (0, 0) and (6, 0), three edges and one quarter turn from (3, 0).
+    let b = Bounds::new(Pos::new(0, 0), 7, 1);
+    let mut m = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).unwrap();
+    let ew = Arms::NONE.with(Heading::East).with(Heading::West);
+    for x in 1..=5 {
+        m.visit(Pos::new(x, 0), ew, RobotId(0)).unwrap();
+    }
+    let choose = |home: Pos, pull: u32| {
+        let robots = [RobotView {
+            pos: Pos::new(3, 0),
+            heading: Heading::North,
+            eta: 0,
+            home,
+            target: None,
+        }];
+        let ctx = Context {
+            map: &m,
+            timing: Timing::DEFAULT,
+            robots: &robots,
+            me: 0,
+        };
+        let mut fields = [DistField::new(vec![PlanCell::EMPTY; min_cells(b.area())])];
+        let mut t = Tempo {
+            config: TempoConfig {
+                home_pull_pct: pull,
+                ..TempoConfig::default()
+            },
+        };
+        t.decide(&ctx, &mut fields).unwrap()
+    };
+    assert_eq!(TempoConfig::default().home_pull_pct, 25);
+    let east = choose(Pos::new(1, 0), 25);
+    assert_eq!(east.goal, Goal::Frontier(Pos::new(6, 0)));
+    assert_eq!(east.next, Some(Heading::East));
+    let west = choose(Pos::new(5, 0), 25);
+    assert_eq!(west.goal, Goal::Frontier(Pos::new(0, 0)));
+    assert_eq!(west.next, Some(Heading::West));
+    // Without the pull both cost the same and the tie-break decides,
+    // wherever home is.
+    assert_eq!(choose(Pos::new(1, 0), 0), choose(Pos::new(5, 0), 0));
+}

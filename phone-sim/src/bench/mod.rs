@@ -55,16 +55,17 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
         "minpos" => Box::new(MinPos),
         "tempo" => Box::new(Tempo::default()),
         other => {
-            // `tempo:<deduce edges>:<endgame 0|1>:<idle: 0 trail, 1 home, 2 stay>:<spread>:<squared 0|1>[:<trail edges>]` for
+            // `tempo:<deduce edges>:<endgame 0|1>:<idle: 0 trail, 1 home, 2 stay>:<spread>:<squared 0|1>[:<trail edges>[:<home pull %>]]` for
             // ablations.
             let rest = other.strip_prefix("tempo:")?;
             let v: Vec<u32> = rest
                 .split(':')
                 .map(|x| x.parse().ok())
                 .collect::<Option<_>>()?;
-            let (d, e, i, s, q, t) = match v[..] {
-                [d, e, i, s, q] => (d, e, i, s, q, 0),
-                [d, e, i, s, q, t] => (d, e, i, s, q, t),
+            let (d, e, i, s, q, t, h) = match v[..] {
+                [d, e, i, s, q] => (d, e, i, s, q, 0, 0),
+                [d, e, i, s, q, t] => (d, e, i, s, q, t, 0),
+                [d, e, i, s, q, t, h] => (d, e, i, s, q, t, h),
                 _ => return None,
             };
             Box::new(Tempo {
@@ -76,6 +77,7 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
                     spread: s,
                     squared: q != 0,
                     trail_edges: t,
+                    home_pull_pct: h,
                 },
             })
         }

@@ -102,14 +102,15 @@ pub fn markdown(rows: &[Row], strategies: &[String]) -> String {
             .iter()
             .filter(|r| &r.strategy == st && r.robots >= 2)
             .collect();
-        let m = mean(team.iter().map(|r| r.ratio())).unwrap_or(f64::NAN);
-        let e = mean(team.iter().map(|r| r.edge_ratio())).unwrap_or(f64::NAN);
+        let show = |v: Option<f64>| v.map_or_else(|| "—".to_string(), |v| format!("{v:.3}"));
+        let m = show(mean(team.iter().map(|r| r.ratio())));
+        let e = show(mean(team.iter().map(|r| r.edge_ratio())));
         let done = rows
             .iter()
             .filter(|r| &r.strategy == st && r.stats.complete)
             .count();
         let all = rows.iter().filter(|r| &r.strategy == st).count();
-        let _ = writeln!(l, " {m:.3} | {e:.3} | {done}/{all} |");
+        let _ = writeln!(l, " {m} | {e} | {done}/{all} |");
         s.push_str(&l);
     }
     if let Some(nf) = mean(
