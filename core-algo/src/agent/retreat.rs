@@ -116,10 +116,10 @@ where
                 // Only a bumper whose way comes through here can be seen to
                 // pass; one that bumped us on its way elsewhere (to a retreat
                 // spot of its own, say) cannot.
-                let here = bounds
+                let through_here = bounds
                     .index(self.pos)
                     .filter(|&h| theirs.path_passes(map, goal, h));
-                let leave = here.and_then(|h| {
+                let leave = through_here.and_then(|h| {
                     mine.first_back(map, v, |u| u == h || theirs.path_passes(map, goal, u))
                 });
                 return Some((bounds.pos(v), leave.map(|u| bounds.pos(u))));
@@ -129,7 +129,8 @@ where
 
     /// Drives to the retreat spot and holds there until the team mate that
     /// bumped us is home (or failed, or stood still for a while: it may be
-    /// waiting for us); `None` once the retreat is over.
+    /// waiting for us; or, far from home, no longer needs our way: see
+    /// `may_follow`); `None` once the retreat is over.
     pub(super) fn retreat_decision(&mut self) -> Option<Decision> {
         let mut r = self.retreat?;
         let timing = self.config.timing;
@@ -270,8 +271,9 @@ where
         }
         let at = bounds.index(q.pos);
         let on_theirs = |v: usize| Some(v) == at || theirs.path_passes(map, goal, v);
-        // Walking our way back from home: the last shared node seen is the
-        // first we would meet, the one before it the next.
+        // Walking our way back from home (the predicate never holds: it
+        // only watches the walk): the last shared node seen is the first we
+        // would meet, the one before it the next.
         let (mut first, mut next) = (None, None);
         mine.first_back(map, home, |v| {
             if v != here && on_theirs(v) {
