@@ -334,6 +334,7 @@ pub fn run(field: &Field, a: &ExploreArgs) -> Result<(), CliError> {
     let limit = Duration::from_secs(u64::from(a.qemu_timeout.max(1)));
     let mut last_keep_alive: Option<Instant> = None;
     let mut done_at = None;
+    let mut mapped_at: Option<u32> = None;
     let mut inbox = Vec::new();
     let mut reports: Vec<(RobotId, Report)> = Vec::new();
     let mut failure = None;
@@ -372,6 +373,10 @@ pub fn run(field: &Field, a: &ExploreArgs) -> Result<(), CliError> {
             }
         }
         phone.process(now, &mut proxies);
+        let map = phone.env().map();
+        if mapped_at.is_none() && map.visited_len() > 0 && map.is_complete() {
+            mapped_at = Some(now);
+        }
         let idle = bodies.bodies().iter().all(|b| b.is_idle());
         if done_at.is_none() && phone.env().finished_at().is_some() && idle {
             done_at = Some(now);
@@ -409,7 +414,7 @@ pub fn run(field: &Field, a: &ExploreArgs) -> Result<(), CliError> {
         })
         .sum::<u64>();
     let alive = vec![true; n];
-    let outcome = outcome_of(
+    let mut outcome = outcome_of(
         field,
         phone.env(),
         &bodies,
@@ -418,6 +423,7 @@ pub fn run(field: &Field, a: &ExploreArgs) -> Result<(), CliError> {
         (frames, 0),
         core_algo::localize::Frame::IDENTITY,
     );
+    outcome.mapped_ms = mapped_at.map(|t| t.saturating_mul(scale));
     let mut r = report(field, a, nominal, &outcome, wall);
     r.robots = n;
     r.strategy = "firmware (minpos)".into();
