@@ -20,23 +20,15 @@ where
     F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
     S: Strategy<M, F>,
 {
-    /// Plans a retreat out of team mate `b`'s way (to its target, else
-    /// home) and starts it (the next decision drives it); whether there is
-    /// somewhere to go.
-    pub(super) fn plan_retreat(&mut self, b: usize) -> bool {
-        let bounds = self.map.bounds();
-        let Some(q) = self.peers.get(b).copied().filter(|q| q.known && !q.failed) else {
-            return false;
-        };
-        let Some(goal) = bounds.index(q.target.unwrap_or(q.home)) else {
-            return false;
-        };
-        let (map, timing) = (&self.map, self.config.timing);
-        let Some(field) = self.fields.first_mut() else {
-            return false;
-        };
+    /// Plans team mate `b`'s way (to its target, else home) from where it
+    /// stands in the first field; the team mate and the goal's node if the
+    /// way was found.
+    fn plan_way_of(&mut self, b: usize) -> Option<(Peer, usize)> {
+        let q = self.peers.get(b).copied()?;
+        let goal = self.map.bounds().index(q.target.unwrap_or(q.home))?;
+        let field = self.fields.first_mut()?;
         let reached = field
-            .compute(map, timing, q.pos, q.heading, |v, _| {
+            .compute(&self.map, self.config.timing, q.pos, q.heading, |v, _| {
                 if v == goal {
                     Flow::Stop
                 } else {
@@ -44,9 +36,19 @@ where
                 }
             })
             .is_ok();
-        if !reached || field.dist_at(goal).is_none() {
+        (reached && field.dist_at(goal).is_some()).then_some((q, goal))
+    }
+
+    /// Plans a retreat out of team mate `b`'s way (to its target, else
+    /// home) and starts it (the next decision drives it); whether there is
+    /// somewhere to go.
+    pub(super) fn plan_retreat(&mut self, b: usize) -> bool {
+        if !self.peers.get(b).is_some_and(|q| q.known && !q.failed) {
             return false;
         }
+        let Some((q, goal)) = self.plan_way_of(b) else {
+            return false;
+        };
         let Some((spot, leave)) = self.retreat_spot(goal, q.pos) else {
             return false;
         };
@@ -154,7 +156,7 @@ where
             .is_none_or(|q| !q.known || q.failed || q.pos == q.home)
             || self.now.wrapping_sub(r.since) > patience
             || !self.map.is_complete()
-            || self.may_follow() && (self.bumper_passed(r) || self.bumper_ahead(r));
+            || self.may_follow() && self.bumper_clear(r);
         let bounds = self.map.bounds();
         let spot = bounds.index(r.spot);
         let (pos, heading, map) = (self.pos, self.heading, &self.map);
@@ -193,82 +195,55 @@ where
         self.pos.manhattan(self.home) > FOLLOW_FROM_EDGES
     }
 
-    /// Whether the team mate we retreated from has driven past the node
-    /// where our way to the retreat spot left its way: from there on its
-    /// way (to its target, else home) no longer comes through, so going on
-    /// can only follow it, never meet it head-on. Waiting until it is home
-    /// instead had robots stand for the whole of a long trip home and then
-    /// drive it alone (the demo field: 45 s of 193 s). Plans in the first
-    /// field.
-    fn bumper_passed(&mut self, r: Retreat) -> bool {
+    /// Whether the team mate we retreated from no longer needs our way, so
+    /// that going on can only follow it, never meet it head-on. Holding
+    /// until it is home instead had robots stand for the whole of a long
+    /// trip home and then drive it alone (the demo field: 45 s of 193 s).
+    /// Either it has driven past the node where our way to the retreat spot
+    /// left its way (to its target, else home), or it is ahead of us on the
+    /// way we would take home now: where our way first meets its way, it
+    /// drives on in our direction and gets there two edges before we
+    /// could. Plans its way once, in the first field, and ours in the
+    /// second.
+    fn bumper_clear(&mut self, r: Retreat) -> bool {
         let bounds = self.map.bounds();
-        let Some(q) = self.peers.get(r.bumper).copied() else {
-            return false;
-        };
-        let (Some(goal), Some(leave)) = (
-            bounds.index(q.target.unwrap_or(q.home)),
-            r.leave.and_then(|p| bounds.index(p)),
-        ) else {
-            return false;
-        };
-        if Some(q.pos) == r.leave {
-            return false;
-        }
-        let (map, timing) = (&self.map, self.config.timing);
-        let Some(field) = self.fields.first_mut() else {
-            return false;
-        };
-        let reached = field
-            .compute(map, timing, q.pos, q.heading, |v, _| {
-                if v == goal {
-                    Flow::Stop
-                } else {
-                    Flow::Continue
-                }
-            })
-            .is_ok()
-            && field.dist_at(goal).is_some();
-        reached && !field.path_passes(map, goal, leave)
-    }
-
-    /// Whether the team mate we retreated from is ahead of us on the way
-    /// we would take home now: where our way first meets its way (to its
-    /// target, else home), it drives on in our direction and gets there two
-    /// edges before we could. Then going now only follows it. Holding until
-    /// it is home instead had robots stand for the whole of its trip and
-    /// then drive the same way alone. Plans in the first two fields.
-    fn bumper_ahead(&mut self, r: Retreat) -> bool {
-        let bounds = self.map.bounds();
-        let Some(q) = self.peers.get(r.bumper).copied() else {
-            return false;
-        };
-        let (Some(goal), Some(home), Some(here)) = (
-            bounds.index(q.target.unwrap_or(q.home)),
-            bounds.index(self.home),
-            bounds.index(self.pos),
-        ) else {
+        let Some((q, goal)) = self.plan_way_of(r.bumper) else {
             return false;
         };
         let (map, timing, pos, heading) = (&self.map, self.config.timing, self.pos, self.heading);
         let Some((theirs, rest)) = self.fields.split_first_mut() else {
             return false;
         };
-        let Some(mine) = rest.first_mut() else {
+        // Past where our way left its way.
+        if let Some(leave) = r
+            .leave
+            .filter(|&p| p != q.pos)
+            .and_then(|p| bounds.index(p))
+        {
+            if !theirs.path_passes(map, goal, leave) {
+                return true;
+            }
+        }
+        // Ahead of us on our way home.
+        let (Some(home), Some(here), Some(mine)) =
+            (bounds.index(self.home), bounds.index(pos), rest.first_mut())
+        else {
             return false;
         };
-        let stop_at =
-            |g: usize| move |v: usize, _| if v == g { Flow::Stop } else { Flow::Continue };
-        let planned = theirs
-            .compute(map, timing, q.pos, q.heading, stop_at(goal))
+        let planned = mine
+            .compute(map, timing, pos, heading, |v, _| {
+                if v == home {
+                    Flow::Stop
+                } else {
+                    Flow::Continue
+                }
+            })
             .is_ok()
-            && theirs.dist_at(goal).is_some()
-            && mine
-                .compute(map, timing, pos, heading, stop_at(home))
-                .is_ok()
             && mine.dist_at(home).is_some();
         if !planned {
             return false;
         }
+        let theirs = &*theirs;
         let at = bounds.index(q.pos);
         let on_theirs = |v: usize| Some(v) == at || theirs.path_passes(map, goal, v);
         // Walking our way back from home (the predicate never holds: it
