@@ -39,6 +39,10 @@ use core::fmt;
 const DIST_MASK: u32 = 0x0FFF_FFFF;
 const SETTLED_SHIFT: u32 = 28;
 const NO_OFF: u8 = u8::MAX;
+/// A node on the marked way (see [`DistField::mark_way`]): the top bit of a
+/// cell's second ring slot, which a queue entry (a state index below
+/// 2^30) never sets.
+const ON_WAY: u32 = 1 << 31;
 
 /// The largest distance a field holds (about 31 days at 10 ms ticks);
 /// farther states are left unreached.
@@ -125,6 +129,18 @@ impl fmt::Display for PlanError {
             PlanError::QueueFull => f.write_str("planner queue full"),
         }
     }
+}
+
+/// One step back along a cheapest path (see `DistField::step_back`).
+enum Back {
+    /// At the start pose.
+    Start,
+    /// Driven into the state from this one.
+    Drive((usize, usize, Ticks)),
+    /// Turned into the state from this one.
+    Turn((usize, usize, Ticks)),
+    /// No predecessor: the path is broken (not reached).
+    Lost,
 }
 
 /// Whether a search goes on after a node is reached.
@@ -235,6 +251,9 @@ pub struct DistField<S> {
     bounds: Bounds,
     start: Option<(usize, Heading)>,
     timing: Timing,
+    /// The node whose way is marked, and the map revision it was marked
+    /// on (see [`DistField::mark_way`]).
+    way: Option<(usize, u32)>,
 }
 
 impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
@@ -249,6 +268,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             bounds: Bounds::new(Pos::new(0, 0), 0, 0),
             start: None,
             timing: Timing::DEFAULT,
+            way: None,
         }
     }
 
@@ -309,8 +329,10 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let s0 = bounds.index(start).ok_or(PlanError::OutOfBounds(start))?;
         let (lo, hi) = core::mem::take(&mut self.dirty);
         if let Some(cells) = self.cells.as_mut().get_mut(lo..hi) {
+            // Marks live on settled cells only, so this clears them too.
             cells.fill(PlanCell::EMPTY);
         }
+        self.way = None;
         self.bounds = bounds;
         self.queue = Queues::default();
         self.start = Some((s0, heading));
@@ -405,6 +427,8 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         if self.start.is_none() {
             return Ok(());
         }
+        // The marks share the ring slots that the queues are about to use.
+        self.unmark_way(map);
         let t = self.timing;
         let bounds = self.bounds;
         let cap = self.cells.as_ref().len();
@@ -681,42 +705,61 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         target: usize,
         mut step: impl FnMut(usize, Heading, Ticks) -> Flow,
     ) -> bool {
-        let Some((s0, h0)) = self.start else {
+        let Some(mut state) = self.last_state(target) else {
             return false;
         };
-        let Some(cell) = self.cells.as_ref().get(target) else {
-            return false;
-        };
-        let Some(mut h) = (0..4).find(|&h| cell.pose_dist(h) == cell.dist()) else {
-            return false;
-        };
-        let mut v = target;
-        let Some(mut d) = cell.pose_dist(h) else {
-            return false;
-        };
-        let t = self.timing;
         for _ in 0..self.bounds.area().saturating_mul(4).saturating_add(4) {
-            if v == s0 && h == usize::from(h0.index()) && d == 0 {
-                return true;
-            }
-            if let Some(u) = self.drive_pred(map, v, h, d) {
-                if step(v, Heading::from_index(h as u8), d) == Flow::Stop {
-                    return true;
+            match self.step_back(map, state) {
+                Back::Start => return true,
+                Back::Lost => return false,
+                Back::Turn(prev) => state = prev,
+                Back::Drive(prev) => {
+                    let (v, h, d) = state;
+                    if step(v, Heading::from_index(h as u8), d) == Flow::Stop {
+                        return true;
+                    }
+                    state = prev;
                 }
-                v = u;
-                d -= t.edge;
-                continue;
             }
-            let cv = self.cells.as_ref().get(v);
-            let turn = [(h + 3) & 3, (h + 1) & 3].into_iter().find(|&hp| {
-                cv.and_then(|c| c.pose_dist(hp))
-                    .is_some_and(|dp| dp + t.quarter_turn == d)
-            });
-            let Some(hp) = turn else { return false };
-            h = hp;
-            d -= t.quarter_turn;
         }
         false
+    }
+
+    /// The state (node, heading, distance) in which the cheapest path to
+    /// node `target` ends: its cheapest heading.
+    fn last_state(&self, target: usize) -> Option<(usize, usize, Ticks)> {
+        self.start?;
+        let cell = self.cells.as_ref().get(target)?;
+        let h = (0..4).find(|&h| cell.pose_dist(h) == cell.dist())?;
+        Some((target, h, cell.pose_dist(h)?))
+    }
+
+    /// One step back along the cheapest path from `state`: a drive from a
+    /// neighbour first, else a turn on the spot.
+    fn step_back<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        (v, h, d): (usize, usize, Ticks),
+    ) -> Back {
+        let Some((s0, h0)) = self.start else {
+            return Back::Lost;
+        };
+        if v == s0 && h == usize::from(h0.index()) && d == 0 {
+            return Back::Start;
+        }
+        let t = self.timing;
+        if let Some(u) = self.drive_pred(map, v, h, d) {
+            return Back::Drive((u, h, d - t.edge));
+        }
+        let cv = self.cells.as_ref().get(v);
+        let turn = [(h + 3) & 3, (h + 1) & 3].into_iter().find(|&hp| {
+            cv.and_then(|c| c.pose_dist(hp))
+                .is_some_and(|dp| dp + t.quarter_turn == d)
+        });
+        match turn {
+            Some(hp) => Back::Turn((v, hp, d - t.quarter_turn)),
+            None => Back::Lost,
+        }
     }
 
     /// The heading the robot must face to leave the start node on the
@@ -748,6 +791,13 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let Some(dv) = self.dist_at(via) else {
             return false;
         };
+        if self.way == Some((target, map.revision())) {
+            return self
+                .cells
+                .as_ref()
+                .get(via)
+                .is_some_and(|c| c.ring_b & ON_WAY != 0);
+        }
         let mut hit = false;
         let walked = self.walk_back_while(map, target, |v, _, d| {
             hit |= v == via;
@@ -758,6 +808,81 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             }
         });
         walked && hit
+    }
+
+    /// Marks the cheapest path to node `target`, so that
+    /// [`DistField::path_passes`] answers for it in O(1) until the field or
+    /// the map changes. Homecoming and retreats ask whether each of many
+    /// nodes lies on one team mate's way; walking the way back for every
+    /// node cost O(way length) each, and in a large maze, where ways run
+    /// hundreds of edges, that was most of a run. One way per field is
+    /// marked at a time; the marks live in a bit of the settled cells' ring
+    /// slots, which the next search clears. Returns whether `target` was
+    /// reached.
+    pub fn mark_way<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        target: usize,
+    ) -> bool {
+        if self.way == Some((target, map.revision())) {
+            return true;
+        }
+        self.unmark_way(map);
+        if !self.set_way_bits(map, target, true) {
+            // Not reached (or the walk broke off): clear what was set.
+            self.set_way_bits(map, target, false);
+            return false;
+        }
+        self.way = Some((target, map.revision()));
+        true
+    }
+
+    /// Clears the marks of [`DistField::mark_way`].
+    fn unmark_way<M: AsRef<[Block]> + AsMut<[Block]>>(&mut self, map: &KnownMap<M>) {
+        let Some((target, revision)) = self.way.take() else {
+            return;
+        };
+        if revision == map.revision() {
+            self.set_way_bits(map, target, false);
+        } else {
+            // The map changed, so the walk back might take another way:
+            // clear every settled cell.
+            let (lo, hi) = self.dirty;
+            for c in self.cells.as_mut().get_mut(lo..hi).unwrap_or(&mut []) {
+                c.ring_b &= !ON_WAY;
+            }
+        }
+    }
+
+    /// Sets or clears the mark on every node driven into on the cheapest
+    /// path to `target`; whether the walk reached the start.
+    fn set_way_bits<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        target: usize,
+        on: bool,
+    ) -> bool {
+        let Some(mut state) = self.last_state(target) else {
+            return false;
+        };
+        for _ in 0..self.bounds.area().saturating_mul(4).saturating_add(4) {
+            match self.step_back(map, state) {
+                Back::Start => return true,
+                Back::Lost => return false,
+                Back::Turn(prev) => state = prev,
+                Back::Drive(prev) => {
+                    if let Some(c) = self.cells.as_mut().get_mut(state.0) {
+                        if on {
+                            c.ring_b |= ON_WAY;
+                        } else {
+                            c.ring_b &= !ON_WAY;
+                        }
+                    }
+                    state = prev;
+                }
+            }
+        }
+        false
     }
 
     /// The first node, walking the cheapest path back from node `target`
@@ -900,4 +1025,4 @@ impl Heap {
 mod weighted;
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

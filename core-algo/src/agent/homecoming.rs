@@ -255,6 +255,7 @@ where
             }
         };
         plan(true, &mut pending, rest);
+        mark_ways(&pending, rest, map);
         let gated = pending
             .iter()
             .any(|&(s, h, _)| rest.get(s).is_some_and(|f| f.path_passes(map, h, my_home)));
@@ -295,6 +296,7 @@ where
             return decision;
         }
         plan(false, &mut pending, rest);
+        mark_ways(&pending, rest, map);
         let rest = &*rest;
         let on_someones_way = |v: usize| {
             pending
@@ -385,6 +387,20 @@ where
                     next: mine.first_heading(map, v),
                 };
             }
+        }
+    }
+}
+
+/// Marks the pending team mates' ways in their fields, so that asking
+/// whether a node is on one of them costs O(1) (see `DistField::mark_way`).
+fn mark_ways<M, F>(pending: &[(usize, usize, bool)], rest: &mut [DistField<F>], map: &KnownMap<M>)
+where
+    M: AsRef<[Block]> + AsMut<[Block]>,
+    F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+{
+    for &(s, target, _) in pending {
+        if let Some(f) = rest.get_mut(s) {
+            f.mark_way(map, target);
         }
     }
 }

@@ -84,6 +84,7 @@ where
                 .is_ok()
                 .then_some(&*f)
         });
+        theirs.mark_way(map, goal);
         let theirs = &*theirs;
         let free = |v: usize| {
             let p = bounds.pos(v);

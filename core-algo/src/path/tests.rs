@@ -314,3 +314,53 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// A marked way answers `path_passes` exactly as walking it does, and
+    /// the marks (kept in the ring slots) never disturb a resumed search.
+    #[test]
+    fn marked_way_agrees_with_the_walk_and_resumes_cleanly(
+        w in 1u16..12, h in 1u16..12, seed in any::<u64>(), frac in 0.0f64..1.0,
+        stop_after in 1usize..40,
+    ) {
+        let area = usize::from(w) * usize::from(h);
+        let map = random_known(w, h, seed, (area as f64 * frac) as usize + 1);
+        let t = Timing::DEFAULT;
+        let mut full = field_for(area);
+        let mut order = Vec::new();
+        full.compute(&map, t, Pos::new(0, 0), Heading::East, |i, d| {
+            order.push((i, d));
+            Flow::Continue
+        }).unwrap();
+        let mut f = field_for(area);
+        let mut seen = Vec::new();
+        f.compute(&map, t, Pos::new(0, 0), Heading::East, |i, d| {
+            seen.push((i, d));
+            if seen.len() == stop_after { Flow::Stop } else { Flow::Continue }
+        }).unwrap();
+        // Mark two ways in turn among the nodes reached so far; the second
+        // replaces the first.
+        let reached: Vec<usize> = seen.iter().map(|&(i, _)| i).collect();
+        for &target in reached.iter().rev().take(2) {
+            let want: Vec<bool> = (0..area).map(|v| f.path_passes(&map, target, v)).collect();
+            prop_assert!(f.mark_way(&map, target));
+            for (v, &wv) in want.iter().enumerate() {
+                prop_assert_eq!(f.path_passes(&map, target, v), wv, "target {} via {}", target, v);
+            }
+        }
+        f.resume(&map, |i, d| {
+            seen.push((i, d));
+            Flow::Continue
+        }).unwrap();
+        prop_assert_eq!(&seen, &order);
+        // After the resume the marks are gone: answers come from the walk
+        // again and agree with a fresh field.
+        if let Some(&target) = reached.last() {
+            for v in 0..area {
+                prop_assert_eq!(f.path_passes(&map, target, v), full.path_passes(&map, target, v));
+            }
+        }
+    }
+}
