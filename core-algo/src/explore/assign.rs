@@ -15,6 +15,7 @@ use super::{Context, Decision, MAX_ROBOTS, Strategy, explore_decision, go_home, 
 use crate::geometry::Pos;
 use crate::map::Block;
 use crate::path::{DistField, Flow, PlanCell, PlanError};
+use crate::timing::Ticks;
 
 /// Most candidate frontier nodes an assignment considers.
 pub const MAX_CANDIDATES: usize = MAX_ROBOTS * MAX_ROBOTS;
@@ -118,22 +119,252 @@ impl Candidates {
         Ok(Some(c))
     }
 
+    /// Collects each robot's `per_robot` cheapest frontier nodes under
+    /// `cost(j, node, travel)` (`None` excludes a node), growing robot `j`'s
+    /// field only until `floor(j, d)` (no frontier node at travel `d` or
+    /// beyond costs less) exceeds its `per_robot`-th best. A robot's row
+    /// holds its cost to every column its field reached; columns it never
+    /// reached are forbidden to it.
+    ///
+    /// With `per_robot` = k this loses no optimal assignment: by the module
+    /// docs' swap argument, which holds for any cost, some optimal
+    /// assignment gives every robot one of its own k cheapest nodes, and
+    /// those are all in its row. Unlike [`Candidates::collect`] no field
+    /// grows to reach every other robot's candidates, which at 16 robots on
+    /// a large field meant 16 near-complete searches per decision.
+    pub(crate) fn cheapest<M, F>(
+        ctx: &Context<'_, M>,
+        fields: &mut [DistField<F>],
+        per_robot: usize,
+        spread: u32,
+        mut cost: impl FnMut(usize, usize, Ticks) -> Option<i64>,
+        mut floor: impl FnMut(usize, Ticks) -> i64,
+        bound: impl FnMut(usize, usize) -> i64,
+    ) -> Result<Option<Candidates>, PlanError>
+    where
+        M: AsRef<[Block]> + AsMut<[Block]>,
+        F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+    {
+        let k = ctx.robots.len();
+        if k > MAX_ROBOTS || fields.len() < k || k == 0 {
+            return Ok(None);
+        }
+        if spread == 0 && ctx.map.frontier_len() < per_robot.min(k) {
+            return Self::endgame(ctx, fields, cost, floor, bound).map(Some);
+        }
+        let mut c = Candidates {
+            k,
+            m: 0,
+            nodes: [0; MAX_CANDIDATES],
+            cost: [[INF; MAX_CANDIDATES]; MAX_ROBOTS],
+        };
+        let per_robot = per_robot.clamp(1, (MAX_CANDIDATES / k).min(MAX_ROBOTS + 4));
+        let map = ctx.map;
+        let bounds = map.bounds();
+        for (j, (r, field)) in ctx.robots.iter().zip(fields.iter_mut()).enumerate() {
+            // This robot's best so far, cheapest first: (cost, node).
+            let mut best = [(INF, usize::MAX); MAX_ROBOTS + 4];
+            let mut n = 0usize;
+            let mut unseen = map.frontier_len();
+            field.compute(map, ctx.timing, r.pos, r.heading, |i, d| {
+                if n == per_robot && best.get(n - 1).is_some_and(|&(b, _)| floor(j, d) > b) {
+                    return Flow::Stop;
+                }
+                if !map.is_frontier_at(i) {
+                    return Flow::Continue;
+                }
+                unseen = unseen.saturating_sub(1);
+                let taken = c.nodes.get(..c.m).unwrap_or(&[]);
+                let p = bounds.pos(i);
+                let crowded = spread > 0
+                    && taken
+                        .iter()
+                        .any(|&q| q != i && bounds.pos(q).manhattan(p) <= spread);
+                if let (false, Some(x)) = (crowded, cost(j, i, d)) {
+                    // Insert in order; ties keep the earlier (nearer) node.
+                    let at = best
+                        .get(..n)
+                        .unwrap_or(&[])
+                        .iter()
+                        .position(|&(b, _)| x < b)
+                        .unwrap_or(n);
+                    if at < per_robot {
+                        let end = n.min(per_robot - 1);
+                        if let Some(s) = best.get_mut(at..=end) {
+                            s.rotate_right(1);
+                        }
+                        if let Some(s) = best.get_mut(at) {
+                            *s = (x, i);
+                        }
+                        n = (n + 1).min(per_robot);
+                    }
+                }
+                if unseen == 0 {
+                    Flow::Stop
+                } else {
+                    Flow::Continue
+                }
+            })?;
+            for &(_, i) in best.get(..n).unwrap_or(&[]) {
+                if !c.nodes.get(..c.m).unwrap_or(&[]).contains(&i) {
+                    if let Some(slot) = c.nodes.get_mut(c.m) {
+                        *slot = i;
+                        c.m += 1;
+                    }
+                }
+            }
+        }
+        for (j, field) in fields.iter().take(k).enumerate() {
+            for col in 0..c.m {
+                let Some(&node) = c.nodes.get(col) else {
+                    continue;
+                };
+                let x = field.dist_at(node).and_then(|d| cost(j, node, d));
+                if let (Some(x), Some(v)) = (x, c.cost.get_mut(j).and_then(|r| r.get_mut(col))) {
+                    *v = x.clamp(-INF + 1, INF - 1);
+                }
+            }
+        }
+        Ok(Some(c))
+    }
+
+    /// [`Candidates::cheapest`] once fewer frontier nodes than robots are
+    /// left: then every robot's k cheapest are all of them, and every
+    /// field would have to reach the farthest (most of a large map, for
+    /// each of 16 robots at every decision: three quarters of a 16-robot
+    /// run's searching). The swap argument runs the other way instead:
+    /// with m frontier nodes, some optimal assignment gives each node one
+    /// of its own m cheapest robots (at most m − 1 of those are busy
+    /// elsewhere, so one is free to take it). So the deciding robot's field
+    /// finds the m nodes, and another robot's field is grown only if
+    /// `bound(j, node)`, a lower bound of its cost for the node, could beat
+    /// the m-th cheapest robot found for some node so far, and only as far
+    /// as that could still happen. Rows of robots never searched are
+    /// forbidden.
+    fn endgame<M, F>(
+        ctx: &Context<'_, M>,
+        fields: &mut [DistField<F>],
+        mut cost: impl FnMut(usize, usize, Ticks) -> Option<i64>,
+        mut floor: impl FnMut(usize, Ticks) -> i64,
+        mut bound: impl FnMut(usize, usize) -> i64,
+    ) -> Result<Candidates, PlanError>
+    where
+        M: AsRef<[Block]> + AsMut<[Block]>,
+        F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+    {
+        let (map, k, me) = (ctx.map, ctx.robots.len(), ctx.me);
+        let mut c = Candidates {
+            k,
+            m: 0,
+            nodes: [0; MAX_CANDIDATES],
+            cost: [[INF; MAX_CANDIDATES]; MAX_ROBOTS],
+        };
+        let (Some(r), Some(field)) = (ctx.robots.get(me), fields.get_mut(me)) else {
+            return Ok(c);
+        };
+        let mut unseen = map.frontier_len();
+        field.compute(map, ctx.timing, r.pos, r.heading, |i, _| {
+            if map.is_frontier_at(i) {
+                unseen = unseen.saturating_sub(1);
+                if let Some(slot) = c.nodes.get_mut(c.m) {
+                    *slot = i;
+                    c.m += 1;
+                }
+            }
+            if unseen == 0 {
+                Flow::Stop
+            } else {
+                Flow::Continue
+            }
+        })?;
+        let m = c.m;
+        let mut searched = [false; MAX_ROBOTS];
+        let mut fill = |c: &mut Candidates, j: usize, field: &DistField<F>| {
+            for col in 0..m {
+                let node = c.nodes.get(col).copied().unwrap_or(usize::MAX);
+                if let (Some(x), Some(v)) = (
+                    field.dist_at(node).and_then(|d| cost(j, node, d)),
+                    c.cost.get_mut(j).and_then(|row| row.get_mut(col)),
+                ) {
+                    *v = x.clamp(-INF + 1, INF - 1);
+                }
+            }
+        };
+        if let (Some(s), Some(field)) = (searched.get_mut(me), fields.get(me)) {
+            *s = true;
+            fill(&mut c, me, field);
+        }
+        if m == 0 {
+            return Ok(c);
+        }
+        // The m-th cheapest searched robot of column `col`: a robot that
+        // cannot beat it is not needed there.
+        let threshold = |c: &Candidates, col: usize| -> i64 {
+            let mut best = [INF; MAX_ROBOTS];
+            for (j, b) in best.iter_mut().enumerate().take(k) {
+                *b = c.at(j, col);
+            }
+            let row = best.get_mut(..k).unwrap_or(&mut []);
+            row.sort_unstable();
+            row.get(m - 1).copied().unwrap_or(INF)
+        };
+        // The other robots, likeliest to matter first.
+        let mut order = [(0i64, 0usize); MAX_ROBOTS];
+        for (j, o) in order.iter_mut().enumerate().take(k) {
+            let nearest = (0..m)
+                .filter_map(|col| c.nodes.get(col).map(|&node| bound(j, node)))
+                .min()
+                .unwrap_or(INF);
+            *o = (nearest, j);
+        }
+        let order = order.get_mut(..k).unwrap_or(&mut []);
+        order.sort_unstable();
+        for &(_, j) in order.iter() {
+            if searched.get(j).copied().unwrap_or(true) {
+                continue;
+            }
+            // How far this robot's costs could matter, if anywhere.
+            let mut limit: Option<i64> = None;
+            for col in 0..m {
+                let node = c.nodes.get(col).copied().unwrap_or(usize::MAX);
+                let t = threshold(&c, col);
+                if bound(j, node) < t {
+                    limit = Some(limit.map_or(t, |l: i64| l.max(t)));
+                }
+            }
+            let (Some(limit), Some(r), Some(field)) = (limit, ctx.robots.get(j), fields.get_mut(j))
+            else {
+                continue;
+            };
+            let nodes = c.nodes;
+            let cols = nodes.get(..m).unwrap_or(&[]);
+            let mut missing = m;
+            field.compute(map, ctx.timing, r.pos, r.heading, |i, d| {
+                if floor(j, d) >= limit {
+                    return Flow::Stop;
+                }
+                if map.is_frontier_at(i) && cols.contains(&i) {
+                    missing -= 1;
+                    if missing == 0 {
+                        return Flow::Stop;
+                    }
+                }
+                Flow::Continue
+            })?;
+            if let Some(s) = searched.get_mut(j) {
+                *s = true;
+            }
+            fill(&mut c, j, field);
+        }
+        Ok(c)
+    }
+
     /// Adds `x` to the cost of robot `j` for column `col` (forbidden pairs
     /// stay forbidden).
     pub(crate) fn add(&mut self, j: usize, col: usize, x: i64) {
         if let Some(v) = self.cost.get_mut(j).and_then(|r| r.get_mut(col)) {
             if *v < INF {
                 *v = (*v + x).min(INF);
-            }
-        }
-    }
-
-    /// Replaces the cost of robot `j` for column `col` by `f(cost)`
-    /// (forbidden pairs stay forbidden; results are capped below them).
-    pub(crate) fn map_cost(&mut self, j: usize, col: usize, f: impl FnOnce(i64) -> i64) {
-        if let Some(v) = self.cost.get_mut(j).and_then(|r| r.get_mut(col)) {
-            if *v < INF {
-                *v = f(*v).clamp(0, INF - 1);
             }
         }
     }
@@ -470,3 +701,6 @@ where
         }
     }
 }
+
+#[cfg(test)]
+mod tests;

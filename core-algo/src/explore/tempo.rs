@@ -31,12 +31,7 @@ use super::assign::{AssignmentObjective, Candidates, hungarian_cols};
 use super::{Context, Decision, Strategy, explore_decision, go_home, nearest_or_home};
 use crate::map::Block;
 use crate::path::{DistField, Flow, PlanCell, PlanError};
-
-/// Candidates per robot beyond the team size: the few-candidates argument
-/// of `assign` holds for plain travel times only; with the home pull a
-/// robot must also see a slightly dearer node that lies farther from home
-/// (alone, it would otherwise see just one).
-const EXTRA: usize = 2;
+use crate::timing::Ticks;
 
 /// Tempo's knobs; [`Default`] holds the benchmarked values.
 #[derive(Clone, Copy, Debug)]
@@ -105,7 +100,48 @@ where
     ) -> Result<Decision, PlanError> {
         let me = ctx.me;
         let k = ctx.robots.len();
-        let Some(mut c) = Candidates::collect(ctx, fields, k + EXTRA, self.config.spread)? else {
+        let cfg = self.config;
+        let edge = i64::from(ctx.timing.edge.max(1));
+        let pen = i64::from(cfg.deduce_penalty_edges) * edge;
+        let per_edge = edge * i64::from(cfg.home_pull_pct) / 100;
+        let bounds = ctx.map.bounds();
+        let robots = ctx.robots;
+        let travel = |j: usize, d: Ticks| -> i64 {
+            let t = i64::from(d) + robots.get(j).map_or(0, |r| i64::from(r.eta));
+            if cfg.squared {
+                t.saturating_mul(t) / edge
+            } else {
+                t
+            }
+        };
+        let cost = |j: usize, i: usize, d: Ticks| -> Option<i64> {
+            let r = robots.get(j)?;
+            let deduce = ctx
+                .map
+                .cell_at(i)
+                .is_some_and(|x| x.visited_neighbours() == 3);
+            let pull = per_edge * i64::from(bounds.pos(i).manhattan(r.home));
+            Some(travel(j, d) + if deduce { pen } else { 0 } - pull)
+        };
+        // No frontier node at travel d or beyond costs less: it lies at most
+        // d / edge edges from the robot, so at most that much farther from
+        // home than the robot is.
+        let floor = |j: usize, d: Ticks| -> i64 {
+            let from_home = robots.get(j).map_or(0, |r| r.pos.manhattan(r.home));
+            travel(j, d) - per_edge * (i64::from(d) / edge + i64::from(from_home))
+        };
+        // A lower bound of a robot's cost for a node at any travel: it is at
+        // least `edge` per edge of Manhattan distance away.
+        let bound = |j: usize, i: usize| -> i64 {
+            let Some(r) = robots.get(j) else {
+                return i64::MAX;
+            };
+            let p = bounds.pos(i);
+            let least = r.pos.manhattan(p).saturating_mul(ctx.timing.edge);
+            travel(j, least) - per_edge * i64::from(p.manhattan(r.home))
+        };
+        let Some(mut c) = Candidates::cheapest(ctx, fields, k, cfg.spread, cost, floor, bound)?
+        else {
             return match fields.first_mut() {
                 Some(f) => nearest_or_home(ctx, f),
                 None => Ok(Decision::STAY),
@@ -116,42 +152,6 @@ where
                 Some(f) => go_home(ctx, f),
                 None => Ok(Decision::STAY),
             };
-        }
-        if self.config.squared {
-            let e = i64::from(ctx.timing.edge.max(1));
-            for j in 0..k {
-                for col in 0..c.m {
-                    c.map_cost(j, col, |x| x.saturating_mul(x) / e);
-                }
-            }
-        }
-        let pen = i64::from(self.config.deduce_penalty_edges) * i64::from(ctx.timing.edge);
-        for col in 0..c.m {
-            let Some(&node) = c.nodes.get(col) else {
-                continue;
-            };
-            if ctx
-                .map
-                .cell_at(node)
-                .is_some_and(|x| x.visited_neighbours() == 3)
-            {
-                for j in 0..k {
-                    c.add(j, col, pen);
-                }
-            }
-        }
-        if self.config.home_pull_pct > 0 {
-            let bounds = ctx.map.bounds();
-            let per_edge = i64::from(ctx.timing.edge) * i64::from(self.config.home_pull_pct) / 100;
-            for col in 0..c.m {
-                let Some(&node) = c.nodes.get(col) else {
-                    continue;
-                };
-                let p = bounds.pos(node);
-                for (j, r) in ctx.robots.iter().enumerate() {
-                    c.add(j, col, -per_edge * i64::from(p.manhattan(r.home)));
-                }
-            }
         }
         let endgame = self.config.endgame_return && c.m <= k && fields.len() >= 2 * k;
         if endgame {

@@ -1,0 +1,116 @@
+// Cost matrices indexed by robot and node read clearer as index loops.
+#![allow(clippy::needless_range_loop)]
+
+use super::*;
+use crate::explore::RobotView;
+use crate::geometry::Heading;
+use crate::path::tests::random_known;
+use crate::path::{arms_at, min_cells};
+use crate::timing::Timing;
+use proptest::prelude::*;
+use std::vec;
+use std::vec::Vec;
+
+fn total(cols: &[Option<usize>], nodes: &[usize], full: &[Vec<Option<i64>>]) -> (usize, i64) {
+    let mut n = 0;
+    let mut sum = 0;
+    for (j, col) in cols.iter().enumerate().take(full.len()) {
+        if let Some(c) = col {
+            n += 1;
+            sum += full[j][nodes[*c]].expect("assigned pair is reachable");
+        }
+    }
+    (n, sum)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// `Candidates::cheapest` grows each field only to its robot's k
+    /// cheapest nodes, yet the min-sum assignment over what it collects is
+    /// as good as the one over every frontier node with every robot's full
+    /// field (tempo's costs: travel, waiting time, home pull).
+    #[test]
+    fn cheapest_candidates_lose_no_optimal_assignment(
+        w in 2u16..12, h in 2u16..12, seed in any::<u64>(), frac in 0.05f64..1.0,
+        k in 1usize..7, pull in 0u32..60, me in 0usize..6,
+    ) {
+        let area = usize::from(w) * usize::from(h);
+        let map = random_known(w, h, seed, (area as f64 * frac) as usize + 1);
+        let b = map.bounds();
+        let known: Vec<usize> = (0..area).filter(|&i| arms_at(&map, i).is_some()).collect();
+        let pick = |j: usize, salt: u64| {
+            let x = seed.rotate_left((j * 7) as u32 + salt as u32) ^ salt.wrapping_mul(0x9E37);
+            b.pos(known[(x as usize) % known.len()])
+        };
+        let robots: Vec<RobotView> = (0..k)
+            .map(|j| RobotView {
+                pos: pick(j, 1),
+                heading: Heading::from_index((j % 4) as u8),
+                eta: (j as u32 * 13) % 40,
+                home: pick(j, 2),
+                target: None,
+            })
+            .collect();
+        let timing = Timing::DEFAULT;
+        let ctx = Context { map: &map, timing, robots: &robots, me: me % k };
+        let edge = i64::from(timing.edge);
+        let per_edge = edge * i64::from(pull) / 100;
+        let cost = |j: usize, i: usize, d: Ticks| -> Option<i64> {
+            let r = robots.get(j)?;
+            Some(i64::from(d) + i64::from(r.eta) - per_edge * i64::from(b.pos(i).manhattan(r.home)))
+        };
+        let floor = |j: usize, d: Ticks| -> i64 {
+            let r = &robots[j];
+            i64::from(d) + i64::from(r.eta)
+                - per_edge * (i64::from(d) / edge + i64::from(r.pos.manhattan(r.home)))
+        };
+        let bound = |j: usize, i: usize| -> i64 {
+            let r = &robots[j];
+            let p = b.pos(i);
+            i64::from(r.pos.manhattan(p) * timing.edge) + i64::from(r.eta)
+                - per_edge * i64::from(p.manhattan(r.home))
+        };
+        let field = || DistField::new(vec![PlanCell::EMPTY; min_cells(area)]);
+        let mut fields: Vec<_> = (0..k).map(|_| field()).collect();
+        let c = Candidates::cheapest(&ctx, &mut fields, k, 0, cost, floor, bound).unwrap().unwrap();
+        // Every robot's full field, every frontier node.
+        let mut full = vec![vec![None; area]; k];
+        for (j, r) in robots.iter().enumerate() {
+            let mut f = field();
+            f.compute(&map, timing, r.pos, r.heading, |_, _| Flow::Continue).unwrap();
+            for i in 0..area {
+                if map.is_frontier_at(i) {
+                    full[j][i] = f.dist_at(i).and_then(|d| cost(j, i, d));
+                }
+            }
+        }
+        let frontier: Vec<usize> = (0..area).filter(|&i| map.is_frontier_at(i)).collect();
+        prop_assume!(frontier.len() <= MAX_CANDIDATES);
+        let mut all = Candidates {
+            k,
+            m: frontier.len(),
+            nodes: [0; MAX_CANDIDATES],
+            cost: [[INF; MAX_CANDIDATES]; MAX_ROBOTS],
+        };
+        for (col, &i) in frontier.iter().enumerate() {
+            all.nodes[col] = i;
+            for j in 0..k {
+                if let Some(x) = full[j][i] {
+                    all.cost[j][col] = x;
+                }
+            }
+        }
+        let best = total(&hungarian_cols(&all, AssignmentObjective::MinSum), &all.nodes, &full);
+        let got = total(&hungarian_cols(&c, AssignmentObjective::MinSum), &c.nodes, &full);
+        prop_assert_eq!(got, best);
+        // The collected costs are the true ones where present.
+        for j in 0..k {
+            for col in 0..c.m {
+                if c.cost[j][col] < INF {
+                    prop_assert_eq!(Some(c.cost[j][col]), full[j][c.nodes[col]]);
+                }
+            }
+        }
+    }
+}
