@@ -40,8 +40,8 @@ const DIST_MASK: u32 = 0x0FFF_FFFF;
 const SETTLED_SHIFT: u32 = 28;
 const NO_OFF: u8 = u8::MAX;
 /// A node on the marked way (see [`DistField::mark_way`]): the top bit of a
-/// cell's second ring slot, which a queue entry (a state index below
-/// 2^30) never sets.
+/// cell's second ring slot, which a queue entry (below 8 × area < 2^31)
+/// never sets.
 const ON_WAY: u32 = 1 << 31;
 
 /// The largest distance a field holds (about 31 days at 10 ms ticks);
@@ -254,6 +254,9 @@ pub struct DistField<S> {
     /// The node whose way is marked, and the map revision it was marked
     /// on (see [`DistField::mark_way`]).
     way: Option<(usize, u32)>,
+    /// The node that [`DistField::passes`] memoises answers for, and the
+    /// map revision.
+    memo: Option<(usize, u32)>,
 }
 
 impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
@@ -269,6 +272,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             start: None,
             timing: Timing::DEFAULT,
             way: None,
+            memo: None,
         }
     }
 
@@ -333,6 +337,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             cells.fill(PlanCell::EMPTY);
         }
         self.way = None;
+        self.memo = None;
         self.bounds = bounds;
         self.queue = Queues::default();
         self.start = Some((s0, heading));
@@ -429,6 +434,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         }
         // The marks share the ring slots that the queues are about to use.
         self.unmark_way(map);
+        if self.memo.take().is_some() {
+            self.clear_memo();
+        }
         let t = self.timing;
         let bounds = self.bounds;
         let cap = self.cells.as_ref().len();
@@ -835,6 +843,102 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         }
         self.way = Some((target, map.revision()));
         true
+    }
+
+    /// Whether the cheapest path to node `v` drives through node `via`,
+    /// as [`DistField::path_passes`] says, for many `v` and one `via`:
+    /// once the search has run to completion its queues are empty, and
+    /// each (node, heading) state's answer is memoised in its first ring
+    /// slot, so that asking for every node of the map costs O(map) in all
+    /// rather than O(way) each. A retreat asks it for every node it might
+    /// retreat to (is it behind the bumper's goal, seen from home?); in a
+    /// crowded maze the walks were most of the run. A search still in
+    /// progress just walks.
+    pub fn passes<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        v: usize,
+        via: usize,
+    ) -> bool {
+        let q = &self.queue;
+        let complete = q.a_len == 0 && q.b_len == 0 && q.pending.is_none();
+        if !complete || self.tree != Some(map.revision()) {
+            return self.path_passes(map, v, via);
+        }
+        if self.memo != Some((via, map.revision())) {
+            self.clear_memo();
+            self.memo = Some((via, map.revision()));
+        }
+        let (Some(dv), Some(first)) = (self.dist_at(via), self.last_state(v)) else {
+            return false;
+        };
+        let limit = self.bounds.area().saturating_mul(4).saturating_add(4);
+        // Walk back to the answer: `via` driven into, fallen below its
+        // distance (it cannot come any more), the start, or a state whose
+        // answer is known.
+        let mut state = first;
+        let mut answer = false;
+        for _ in 0..limit {
+            if let Some(a) = self.memo_at(state) {
+                answer = a;
+                break;
+            }
+            match self.step_back(map, state) {
+                Back::Start | Back::Lost => break,
+                Back::Turn(prev) => state = prev,
+                Back::Drive(prev) => {
+                    if state.0 == via {
+                        answer = true;
+                        break;
+                    }
+                    if state.2 < dv {
+                        break;
+                    }
+                    state = prev;
+                }
+            }
+        }
+        // Every state walked has the same answer: the rest of its way is
+        // the rest of this one.
+        let mut state = first;
+        for _ in 0..limit {
+            if self.memo_at(state).is_some() {
+                break;
+            }
+            self.set_memo(state, answer);
+            match self.step_back(map, state) {
+                Back::Start | Back::Lost => break,
+                Back::Turn(prev) => state = prev,
+                Back::Drive(prev) => {
+                    if state.0 == via || state.2 < dv {
+                        break;
+                    }
+                    state = prev;
+                }
+            }
+        }
+        answer
+    }
+
+    /// The memoised answer of state `(node, heading, _)`, if any: two bits
+    /// per heading (known, answer) in the node's first ring slot.
+    fn memo_at(&self, (v, h, _): (usize, usize, Ticks)) -> Option<bool> {
+        let bits = self.cells.as_ref().get(v)?.ring_a >> (2 * h);
+        (bits & 1 != 0).then_some(bits & 2 != 0)
+    }
+
+    fn set_memo(&mut self, (v, h, _): (usize, usize, Ticks), answer: bool) {
+        if let Some(c) = self.cells.as_mut().get_mut(v) {
+            c.ring_a |= (1 | (u32::from(answer) << 1)) << (2 * h);
+        }
+    }
+
+    /// Clears every settled cell's first ring slot (the memo's bits).
+    fn clear_memo(&mut self) {
+        let (lo, hi) = self.dirty;
+        for c in self.cells.as_mut().get_mut(lo..hi).unwrap_or(&mut []) {
+            c.ring_a = 0;
+        }
     }
 
     /// Clears the marks of [`DistField::mark_way`].

@@ -235,9 +235,16 @@ where
                 let result = if forward {
                     Ok(h)
                 } else {
+                    // Grown only until it reaches the team mate: the way it
+                    // drives lies inside, and as it comes nearer home the
+                    // field still holds its way (the whole map, searched
+                    // while the map still grows, was a third of a 16-robot
+                    // run on a 128² field).
                     let rooted = rooted
                         || field
-                            .compute(map, timing, p.home, Heading::North, |_, _| Flow::Continue)
+                            .compute(map, timing, p.home, Heading::North, |v, _| {
+                                if v == at { Flow::Stop } else { Flow::Continue }
+                            })
                             .is_ok();
                     if rooted && field.dist_at(at).is_some_and(|d| d > near) {
                         Ok(at)

@@ -79,22 +79,22 @@ where
         // With a third field: not behind the bumper's goal as seen from
         // our home, or we would only be shut in once it is there.
         let home = self.home;
-        let homeward = rest.first_mut().and_then(|f| {
+        let mut homeward = rest.first_mut().and_then(|f| {
             f.compute(map, timing, home, Heading::North, |_, _| Flow::Continue)
                 .is_ok()
-                .then_some(&*f)
+                .then_some(f)
         });
         theirs.mark_way(map, goal);
         let theirs = &*theirs;
-        let free = |v: usize| {
+        let mut free = |v: usize| {
             let p = bounds.pos(v);
             v != blocked
                 && !theirs.path_passes(map, goal, v)
-                && !homeward.is_some_and(|f| f.path_passes(map, v, goal))
                 && !peers
                     .iter()
                     .enumerate()
                     .any(|(i, q)| i != me && q.known && !q.failed && (q.home == p || q.pos == p))
+                && !homeward.as_mut().is_some_and(|f| f.passes(map, v, goal))
         };
         let mut found = None;
         let mut first = true;

@@ -364,3 +364,59 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+
+    /// The memoised `passes` of a complete field answers as the walk does,
+    /// for every node, in any order and for a second `via`; a search
+    /// stopped early just walks; and new searches on the scratch are clean.
+    #[test]
+    fn memoised_passes_agree_with_the_walk(
+        w in 1u16..12, h in 1u16..12, seed in any::<u64>(), frac in 0.0f64..1.0,
+        h0 in 0u8..4,
+    ) {
+        let area = usize::from(w) * usize::from(h);
+        let map = random_known(w, h, seed, (area as f64 * frac) as usize + 1);
+        let t = Timing::DEFAULT;
+        let start = map.bounds().pos((seed as usize) % area);
+        let mut f = field_for(area);
+        f.compute(&map, t, start, Heading::from_index(h0), |_, _| Flow::Continue).unwrap();
+        let reference = |f: &DistField<Vec<PlanCell>>, via: usize| -> Vec<bool> {
+            (0..area).map(|v| f.path_passes(&map, v, via)).collect()
+        };
+        for via in [(seed as usize / 7) % area, (seed as usize / 13) % area] {
+            let want = reference(&f, via);
+            // Far nodes first, then near: the memo fills from both ends.
+            let got: Vec<bool> = (0..area).rev().map(|v| f.passes(&map, v, via)).collect();
+            let got: Vec<bool> = got.into_iter().rev().collect();
+            prop_assert_eq!(&got, &want);
+            let again: Vec<bool> = (0..area).map(|v| f.passes(&map, v, via)).collect();
+            prop_assert_eq!(&again, &want);
+        }
+        // Stopped early: no memo, same answers as the walk.
+        let mut g = field_for(area);
+        let mut n = 0;
+        g.compute(&map, t, start, Heading::from_index(h0), |_, _| {
+            n += 1;
+            if n == 3 { Flow::Stop } else { Flow::Continue }
+        }).unwrap();
+        let via = (seed as usize / 7) % area;
+        let want = reference(&g, via);
+        let got: Vec<bool> = (0..area).map(|v| g.passes(&map, v, via)).collect();
+        prop_assert_eq!(got, want);
+        // The memo's bits do not leak into the next search on the scratch.
+        let mut order = Vec::new();
+        f.compute(&map, t, Pos::new(0, 0), Heading::North, |i, d| {
+            order.push((i, d));
+            Flow::Continue
+        }).unwrap();
+        let mut fresh = field_for(area);
+        let mut want_order = Vec::new();
+        fresh.compute(&map, t, Pos::new(0, 0), Heading::North, |i, d| {
+            want_order.push((i, d));
+            Flow::Continue
+        }).unwrap();
+        prop_assert_eq!(order, want_order);
+    }
+}
