@@ -131,6 +131,73 @@ impl fmt::Display for PlanError {
     }
 }
 
+/// The box of storage indices a search settled: rows `lo / width ..=
+/// (hi - 1) / width`, columns `x0..x1` of each, in a window `width` wide.
+#[derive(Clone, Copy, Debug, Default)]
+struct Dirty {
+    lo: usize,
+    hi: usize,
+    x0: usize,
+    x1: usize,
+    width: usize,
+}
+
+impl Dirty {
+    /// The whole of a window of `area` nodes, `width` wide.
+    fn all(area: usize, width: usize) -> Dirty {
+        Dirty {
+            lo: 0,
+            hi: area,
+            x0: 0,
+            x1: width,
+            width,
+        }
+    }
+
+    /// Grows the box to hold index `i` of a window `width` wide.
+    fn add(&mut self, i: usize, width: usize) {
+        let width = width.max(1);
+        let x = i % width;
+        *self = if self.lo >= self.hi {
+            Dirty {
+                lo: i,
+                hi: i + 1,
+                x0: x,
+                x1: x + 1,
+                width,
+            }
+        } else if self.width != width {
+            // Not within one search; whole rows cover any index range.
+            Dirty {
+                lo: self.lo.min(i),
+                hi: self.hi.max(i + 1),
+                x0: 0,
+                x1: width,
+                width,
+            }
+        } else {
+            Dirty {
+                lo: self.lo.min(i),
+                hi: self.hi.max(i + 1),
+                x0: self.x0.min(x),
+                x1: self.x1.max(x + 1),
+                width,
+            }
+        };
+    }
+
+    /// Calls `f` with the storage range of each row of the box.
+    fn for_each_row(self, mut f: impl FnMut(core::ops::Range<usize>)) {
+        if self.lo >= self.hi || self.width == 0 {
+            return;
+        }
+        for row in self.lo / self.width..=(self.hi - 1) / self.width {
+            let base = row * self.width;
+            f(base + self.x0..base + self.x1);
+        }
+    }
+}
+
 /// One step back along a cheapest path (see `DistField::step_back`).
 enum Back {
     /// At the start pose.
@@ -238,11 +305,11 @@ fn index_manhattan(w: usize, a: usize, b: usize) -> u32 {
 /// on the host. The field stays readable until the next search.
 pub struct DistField<S> {
     cells: S,
-    /// Storage indices `lo..hi` hold every cell the last search settled:
-    /// the next search clears only those. A search that stops early on a
-    /// large map touches a small band of rows, and clearing the whole
-    /// scratch (16 bytes a node) would cost more than the search itself.
-    dirty: (usize, usize),
+    /// A box that holds every cell the last search settled: the next
+    /// search clears only those. A search that stops early on a large map
+    /// touches a small box, and clearing the whole scratch (16 bytes a
+    /// node) would cost more than the search itself.
+    dirty: Dirty,
     /// The map revision a completed or stopped Dijkstra search ran on
     /// (`None` after A*, whose settled states are not a shortest-path tree
     /// in search order, or after an error).
@@ -265,7 +332,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         storage.as_mut().fill(PlanCell::EMPTY);
         DistField {
             cells: storage,
-            dirty: (0, 0),
+            dirty: Dirty::default(),
             tree: None,
             queue: Queues::default(),
             bounds: Bounds::new(Pos::new(0, 0), 0, 0),
@@ -331,11 +398,13 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             });
         }
         let s0 = bounds.index(start).ok_or(PlanError::OutOfBounds(start))?;
-        let (lo, hi) = core::mem::take(&mut self.dirty);
-        if let Some(cells) = self.cells.as_mut().get_mut(lo..hi) {
-            // Marks live on settled cells only, so this clears them too.
-            cells.fill(PlanCell::EMPTY);
-        }
+        let cells = self.cells.as_mut();
+        // Marks and memos live on settled cells only, so this clears them too.
+        core::mem::take(&mut self.dirty).for_each_row(|r| {
+            if let Some(row) = cells.get_mut(r) {
+                row.fill(PlanCell::EMPTY);
+            }
+        });
         self.way = None;
         self.memo = None;
         self.bounds = bounds;
@@ -353,11 +422,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         if c.settled(h) {
             return None;
         }
-        self.dirty = if self.dirty.0 == self.dirty.1 {
-            (i, i + 1)
-        } else {
-            (self.dirty.0.min(i), self.dirty.1.max(i + 1))
-        };
+        self.dirty.add(i, usize::from(self.bounds.width));
         let first = match c.dist() {
             None => {
                 c.base = key & DIST_MASK;
@@ -935,10 +1000,12 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
 
     /// Clears every settled cell's first ring slot (the memo's bits).
     fn clear_memo(&mut self) {
-        let (lo, hi) = self.dirty;
-        for c in self.cells.as_mut().get_mut(lo..hi).unwrap_or(&mut []) {
-            c.ring_a = 0;
-        }
+        let cells = self.cells.as_mut();
+        self.dirty.for_each_row(|r| {
+            for c in cells.get_mut(r).unwrap_or(&mut []) {
+                c.ring_a = 0;
+            }
+        });
     }
 
     /// Clears the marks of [`DistField::mark_way`].
@@ -951,10 +1018,12 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         } else {
             // The map changed, so the walk back might take another way:
             // clear every settled cell.
-            let (lo, hi) = self.dirty;
-            for c in self.cells.as_mut().get_mut(lo..hi).unwrap_or(&mut []) {
-                c.ring_b &= !ON_WAY;
-            }
+            let cells = self.cells.as_mut();
+            self.dirty.for_each_row(|r| {
+                for c in cells.get_mut(r).unwrap_or(&mut []) {
+                    c.ring_b &= !ON_WAY;
+                }
+            });
         }
     }
 

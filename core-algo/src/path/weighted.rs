@@ -157,7 +157,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         // what they settled): clear the whole window, and have the next
         // search clear it again.
         let area = bounds.area();
-        self.dirty = (0, area);
+        self.dirty = super::Dirty::all(area, usize::from(bounds.width));
         let cells = self.cells.as_mut();
         if let Some(window) = cells.get_mut(..area) {
             window.fill(PlanCell::EMPTY);
