@@ -301,6 +301,9 @@ pub struct KnownMap<S> {
     frontier: u32,
     deduced: u32,
     revision: u32,
+    /// The largest x + y, x − y, −x + y and −x − y of the visited nodes:
+    /// the farthest visited node from any point, in O(1).
+    diagonals: Option<[i32; 4]>,
 }
 
 impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
@@ -320,6 +323,7 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
             visited: 0,
             frontier: 0,
             deduced: 0,
+            diagonals: None,
             revision: 0,
         })
     }
@@ -330,7 +334,24 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
         self.visited = 0;
         self.frontier = 0;
         self.deduced = 0;
+        self.diagonals = None;
         self.revision = self.revision.wrapping_add(1);
+    }
+
+    /// The Manhattan distance from `from` to the farthest visited node
+    /// (`None` before any visit); frontier nodes lie at most one step
+    /// farther. A planner bounds how far from a robot's home any frontier
+    /// node can be without searching for it.
+    pub fn farthest_visited(&self, from: Pos) -> Option<u32> {
+        let (x, y) = (i32::from(from.x), i32::from(from.y));
+        let d = self.diagonals?;
+        let far = [
+            d[0] - (x + y),
+            d[1] - (x - y),
+            d[2] - (-x + y),
+            d[3] - (-x - y),
+        ];
+        Some(far.into_iter().max().unwrap_or(0).max(0) as u32)
     }
 
     /// Changes whenever the known graph does (a node visited for the first
@@ -462,6 +483,17 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
             c.first_visitor = robot.0;
         });
         self.visited += 1;
+        let (x, y) = (i32::from(p.x), i32::from(p.y));
+        let here = [x + y, x - y, -x + y, -x - y];
+        self.diagonals = Some(match self.diagonals {
+            None => here,
+            Some(d) => [
+                d[0].max(here[0]),
+                d[1].max(here[1]),
+                d[2].max(here[2]),
+                d[3].max(here[3]),
+            ],
+        });
         self.revision = self.revision.wrapping_add(1);
         self.refresh_frontier(i);
         let mut arm_leaves_bounds = false;

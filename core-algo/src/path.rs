@@ -131,59 +131,60 @@ impl fmt::Display for PlanError {
     }
 }
 
-/// The box of storage indices a search settled: rows `lo / width ..=
-/// (hi - 1) / width`, columns `x0..x1` of each, in a window `width` wide.
+/// Where a search settled cells: storage indices `lo..hi`, and no farther
+/// than `reach / edge` columns from the start column `sx` (a settled node
+/// at distance `d` is at most `d / edge` lattice steps away), in a window
+/// `width` wide. The next search clears only that box: rows of a wide map
+/// are much longer than a search that stops early is wide, and finding the
+/// columns this way costs no division per settled state.
 #[derive(Clone, Copy, Debug, Default)]
 struct Dirty {
     lo: usize,
     hi: usize,
-    x0: usize,
-    x1: usize,
+    reach: Ticks,
+    sx: usize,
+    edge: Ticks,
     width: usize,
 }
 
 impl Dirty {
-    /// The whole of a window of `area` nodes, `width` wide.
-    fn all(area: usize, width: usize) -> Dirty {
+    /// Nothing settled yet by a search from storage index `s0` with edges
+    /// of `edge` ticks in a window `width` wide.
+    fn start(s0: usize, width: usize, edge: Ticks) -> Dirty {
+        let width = width.max(1);
         Dirty {
             lo: 0,
-            hi: area,
-            x0: 0,
-            x1: width,
+            hi: 0,
+            reach: 0,
+            sx: s0 % width,
+            edge,
             width,
         }
     }
 
-    /// Grows the box to hold index `i` of a window `width` wide.
-    fn add(&mut self, i: usize, width: usize) {
-        let width = width.max(1);
-        let x = i % width;
-        *self = if self.lo >= self.hi {
-            Dirty {
-                lo: i,
-                hi: i + 1,
-                x0: x,
-                x1: x + 1,
-                width,
-            }
-        } else if self.width != width {
-            // Not within one search; whole rows cover any index range.
-            Dirty {
-                lo: self.lo.min(i),
-                hi: self.hi.max(i + 1),
-                x0: 0,
-                x1: width,
-                width,
-            }
+    /// The whole of a window of `area` nodes, `width` wide (a search whose
+    /// costs are not edge times).
+    fn all(area: usize, width: usize) -> Dirty {
+        Dirty {
+            lo: 0,
+            hi: area,
+            reach: 0,
+            sx: 0,
+            edge: 0,
+            width: width.max(1),
+        }
+    }
+
+    /// Index `i` settled at distance `key`.
+    fn add(&mut self, i: usize, key: Ticks) {
+        if self.lo >= self.hi {
+            self.lo = i;
+            self.hi = i + 1;
         } else {
-            Dirty {
-                lo: self.lo.min(i),
-                hi: self.hi.max(i + 1),
-                x0: self.x0.min(x),
-                x1: self.x1.max(x + 1),
-                width,
-            }
-        };
+            self.lo = self.lo.min(i);
+            self.hi = self.hi.max(i + 1);
+        }
+        self.reach = self.reach.max(key);
     }
 
     /// Calls `f` with the storage range of each row of the box.
@@ -191,9 +192,16 @@ impl Dirty {
         if self.lo >= self.hi || self.width == 0 {
             return;
         }
+        let (x0, x1) = match (self.reach / self.edge.max(1)) as usize {
+            _ if self.edge == 0 => (0, self.width),
+            r => (
+                self.sx.saturating_sub(r),
+                self.sx.saturating_add(r + 1).min(self.width),
+            ),
+        };
         for row in self.lo / self.width..=(self.hi - 1) / self.width {
             let base = row * self.width;
-            f(base + self.x0..base + self.x1);
+            f(base + x0..base + x1);
         }
     }
 }
@@ -411,6 +419,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         self.queue = Queues::default();
         self.start = Some((s0, heading));
         self.timing = searchable(timing);
+        self.dirty = Dirty::start(s0, usize::from(bounds.width), self.timing.edge);
         Ok(s0)
     }
 
@@ -422,7 +431,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         if c.settled(h) {
             return None;
         }
-        self.dirty.add(i, usize::from(self.bounds.width));
+        self.dirty.add(i, key);
         let first = match c.dist() {
             None => {
                 c.base = key & DIST_MASK;

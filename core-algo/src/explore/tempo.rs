@@ -4,7 +4,11 @@
 //! slowest robot's explore-and-return time. Tempo re-assigns the whole team
 //! at every decision (min-sum Hungarian on the true turn-aware travel
 //! times, so committed robots switch when a better split appears), on
-//! partial fields grown only as far as the candidates need, and a robot left
+//! partial fields grown only as far as the assignment needs: each robot's
+//! field to its own k cheapest frontier nodes under tempo's costs, and, once
+//! fewer frontier nodes than robots are left, only the fields of robots that
+//! could be among a node's cheapest (`Candidates::cheapest`; no optimal
+//! assignment is lost, see `assign`). A robot left
 //! without a share *waits where it stands* instead of trailing another robot
 //! to the same frontier: it decides again whenever the map grows, and goes
 //! home once nothing is left. (Driving home at once was measured too: it
@@ -125,10 +129,20 @@ where
         };
         // No frontier node at travel d or beyond costs less: it lies at most
         // d / edge edges from the robot, so at most that much farther from
-        // home than the robot is.
+        // home than the robot is; and at most one step beyond the visited
+        // node farthest from home (far tighter while the robot explores at
+        // the edge of what is known).
+        let mut farthest = [u32::MAX; super::MAX_ROBOTS];
+        for (f, r) in farthest.iter_mut().zip(robots) {
+            if let Some(x) = ctx.map.farthest_visited(r.home) {
+                *f = x.saturating_add(1);
+            }
+        }
         let floor = |j: usize, d: Ticks| -> i64 {
             let from_home = robots.get(j).map_or(0, |r| r.pos.manhattan(r.home));
-            travel(j, d) - per_edge * (i64::from(d) / edge + i64::from(from_home))
+            let reach = i64::from(d) / edge + i64::from(from_home);
+            let box_far = farthest.get(j).map_or(i64::MAX, |&f| i64::from(f));
+            travel(j, d) - per_edge * reach.min(box_far)
         };
         // A lower bound of a robot's cost for a node at any travel: it is at
         // least `edge` per edge of Manhattan distance away.

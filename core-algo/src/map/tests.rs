@@ -236,6 +236,15 @@ proptest! {
             prop_assert_eq!(m.frontier().collect::<Vec<_>>(), expected.clone());
             prop_assert_eq!(m.frontier_len(), expected.len());
             prop_assert_eq!(m.visited_len(), m.visited().count());
+            // The farthest visited node from anywhere, and no frontier node
+            // more than one step beyond it.
+            for from in [Pos::new(-3, -4), Pos::new(4, 3), Pos::new(0, 0), Pos::new(-3, 3)] {
+                let far = m.visited().map(|(p, _)| p.manhattan(from)).max();
+                prop_assert_eq!(m.farthest_visited(from), far);
+                for p in &expected {
+                    prop_assert!(p.manhattan(from) <= far.unwrap_or(0) + 1);
+                }
+            }
             let b = m.bounds();
             let known = (0..b.area()).map(|i| b.pos(i)).filter(|p| m.known_arms(*p).is_some_and(|a| m.is_visited(*p) || a.count() > 0)).count();
             prop_assert_eq!(m.known_len(), known);

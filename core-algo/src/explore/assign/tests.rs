@@ -60,10 +60,13 @@ proptest! {
             let r = robots.get(j)?;
             Some(i64::from(d) + i64::from(r.eta) - per_edge * i64::from(b.pos(i).manhattan(r.home)))
         };
+        // Tempo's floor: the pull is bounded by the travel and by the
+        // farthest visited node from home.
         let floor = |j: usize, d: Ticks| -> i64 {
             let r = &robots[j];
-            i64::from(d) + i64::from(r.eta)
-                - per_edge * (i64::from(d) / edge + i64::from(r.pos.manhattan(r.home)))
+            let reach = i64::from(d) / edge + i64::from(r.pos.manhattan(r.home));
+            let far = map.farthest_visited(r.home).map_or(i64::MAX, |f| i64::from(f) + 1);
+            i64::from(d) + i64::from(r.eta) - per_edge * reach.min(far)
         };
         let bound = |j: usize, i: usize| -> i64 {
             let r = &robots[j];
