@@ -150,7 +150,9 @@ impl Candidates {
             return Ok(None);
         }
         if spread == 0 && ctx.map.frontier_len() < per_robot.min(k) {
-            return Self::endgame(ctx, fields, cost, floor, bound).map(Some);
+            if let Some(c) = Self::endgame(ctx, fields, &mut cost, &mut floor, bound)? {
+                return Ok(Some(c));
+            }
         }
         let mut c = Candidates {
             k,
@@ -240,14 +242,16 @@ impl Candidates {
     /// `bound(j, node)`, a lower bound of its cost for the node, could beat
     /// the m-th cheapest robot found for some node so far, and only as far
     /// as that could still happen. Rows of robots never searched are
-    /// forbidden.
+    /// forbidden. `None` when the deciding robot cannot reach every
+    /// frontier node (team mates in another part of the graph might): then
+    /// the nodes it finds are not all the columns.
     fn endgame<M, F>(
         ctx: &Context<'_, M>,
         fields: &mut [DistField<F>],
         mut cost: impl FnMut(usize, usize, Ticks) -> Option<i64>,
         mut floor: impl FnMut(usize, Ticks) -> i64,
         mut bound: impl FnMut(usize, usize) -> i64,
-    ) -> Result<Candidates, PlanError>
+    ) -> Result<Option<Candidates>, PlanError>
     where
         M: AsRef<[Block]> + AsMut<[Block]>,
         F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
@@ -260,7 +264,7 @@ impl Candidates {
             cost: [[INF; MAX_CANDIDATES]; MAX_ROBOTS],
         };
         let (Some(r), Some(field)) = (ctx.robots.get(me), fields.get_mut(me)) else {
-            return Ok(c);
+            return Ok(None);
         };
         let mut unseen = map.frontier_len();
         field.compute(map, ctx.timing, r.pos, r.heading, |i, _| {
@@ -277,6 +281,9 @@ impl Candidates {
                 Flow::Continue
             }
         })?;
+        if unseen > 0 {
+            return Ok(None);
+        }
         let m = c.m;
         let mut searched = [false; MAX_ROBOTS];
         let mut fill = |c: &mut Candidates, j: usize, field: &DistField<F>| {
@@ -295,7 +302,7 @@ impl Candidates {
             fill(&mut c, me, field);
         }
         if m == 0 {
-            return Ok(c);
+            return Ok(Some(c));
         }
         // The m-th cheapest searched robot of column `col`: a robot that
         // cannot beat it is not needed there.
@@ -356,7 +363,7 @@ impl Candidates {
             }
             fill(&mut c, j, field);
         }
-        Ok(c)
+        Ok(Some(c))
     }
 
     /// Adds `x` to the cost of robot `j` for column `col` (forbidden pairs

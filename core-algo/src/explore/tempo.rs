@@ -138,11 +138,24 @@ where
                 *f = x.saturating_add(1);
             }
         }
+        // Both bounds must hold for every travel d' ≥ d, so each is kept
+        // non-decreasing in d: the first as a rational slope below one
+        // (rounded up), the second constant; with squared travel times
+        // only the second is.
         let floor = |j: usize, d: Ticks| -> i64 {
-            let from_home = robots.get(j).map_or(0, |r| r.pos.manhattan(r.home));
-            let reach = i64::from(d) / edge + i64::from(from_home);
-            let box_far = farthest.get(j).map_or(i64::MAX, |&f| i64::from(f));
-            travel(j, d) - per_edge * reach.min(box_far)
+            let from_home = robots
+                .get(j)
+                .map_or(0, |r| i64::from(r.pos.manhattan(r.home)));
+            let by_travel = (per_edge * i64::from(d) + edge - 1) / edge + per_edge * from_home;
+            let by_extent = farthest
+                .get(j)
+                .map_or(i64::MAX, |&f| per_edge * i64::from(f));
+            let pull = if cfg.squared {
+                by_extent
+            } else {
+                by_travel.min(by_extent)
+            };
+            travel(j, d).saturating_sub(pull)
         };
         // A lower bound of a robot's cost for a node at any travel: it is at
         // least `edge` per edge of Manhattan distance away.

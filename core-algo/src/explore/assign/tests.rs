@@ -24,7 +24,7 @@ fn total(cols: &[Option<usize>], nodes: &[usize], full: &[Vec<Option<i64>>]) -> 
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(256))]
+    #![proptest_config(ProptestConfig::with_cases(2048))]
 
     /// `Candidates::cheapest` grows each field only to its robot's k
     /// cheapest nodes, yet the min-sum assignment over what it collects is
@@ -64,9 +64,12 @@ proptest! {
         // farthest visited node from home.
         let floor = |j: usize, d: Ticks| -> i64 {
             let r = &robots[j];
-            let reach = i64::from(d) / edge + i64::from(r.pos.manhattan(r.home));
-            let far = map.farthest_visited(r.home).map_or(i64::MAX, |f| i64::from(f) + 1);
-            i64::from(d) + i64::from(r.eta) - per_edge * reach.min(far)
+            let by_travel = (per_edge * i64::from(d) + edge - 1) / edge
+                + per_edge * i64::from(r.pos.manhattan(r.home));
+            let by_extent = map
+                .farthest_visited(r.home)
+                .map_or(i64::MAX, |f| per_edge * (i64::from(f) + 1));
+            i64::from(d) + i64::from(r.eta) - by_travel.min(by_extent)
         };
         let bound = |j: usize, i: usize| -> i64 {
             let r = &robots[j];
