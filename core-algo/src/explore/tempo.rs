@@ -120,10 +120,11 @@ where
         };
         let cost = |j: usize, i: usize, d: Ticks| -> Option<i64> {
             let r = robots.get(j)?;
-            let deduce = ctx
-                .map
-                .cell_at(i)
-                .is_some_and(|x| x.visited_neighbours() == 3);
+            let deduce = pen > 0
+                && ctx
+                    .map
+                    .cell_at(i)
+                    .is_some_and(|x| x.visited_neighbours() == 3);
             let pull = per_edge * i64::from(bounds.pos(i).manhattan(r.home));
             Some(travel(j, d) + if deduce { pen } else { 0 } - pull)
         };
