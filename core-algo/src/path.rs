@@ -206,14 +206,16 @@ impl Dirty {
     }
 }
 
-/// One step back along a cheapest path (see `DistField::step_back`).
+/// A (node, heading, distance) state of a field.
+type State = (usize, usize, Ticks);
+
+/// One drive back along a cheapest path (see `DistField::step_back`).
 enum Back {
     /// At the start pose.
     Start,
-    /// Driven into the state from this one.
-    Drive((usize, usize, Ticks)),
-    /// Turned into the state from this one.
-    Turn((usize, usize, Ticks)),
+    /// The path drove into state `into` (after undoing any turns on the
+    /// spot) from state `from`.
+    Drive { into: State, from: State },
     /// No predecessor: the path is broken (not reached).
     Lost,
 }
@@ -790,17 +792,18 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let Some(mut state) = self.last_state(target) else {
             return false;
         };
-        for _ in 0..self.bounds.area().saturating_mul(4).saturating_add(4) {
+        for _ in 0..self.bounds.area().saturating_add(1) {
             match self.step_back(map, state) {
                 Back::Start => return true,
                 Back::Lost => return false,
-                Back::Turn(prev) => state = prev,
-                Back::Drive(prev) => {
-                    let (v, h, d) = state;
+                Back::Drive {
+                    into: (v, h, d),
+                    from,
+                } => {
                     if step(v, Heading::from_index(h as u8), d) == Flow::Stop {
                         return true;
                     }
-                    state = prev;
+                    state = from;
                 }
             }
         }
@@ -809,39 +812,45 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
 
     /// The state (node, heading, distance) in which the cheapest path to
     /// node `target` ends: its cheapest heading.
-    fn last_state(&self, target: usize) -> Option<(usize, usize, Ticks)> {
+    fn last_state(&self, target: usize) -> Option<State> {
         self.start?;
         let cell = self.cells.as_ref().get(target)?;
         let h = (0..4).find(|&h| cell.pose_dist(h) == cell.dist())?;
         Some((target, h, cell.pose_dist(h)?))
     }
 
-    /// One step back along the cheapest path from `state`: a drive from a
-    /// neighbour first, else a turn on the spot.
+    /// One drive back along the cheapest path from `state`, undoing the
+    /// turns on the spot before it (at most three).
     fn step_back<M: AsRef<[Block]> + AsMut<[Block]>>(
         &self,
         map: &KnownMap<M>,
-        (v, h, d): (usize, usize, Ticks),
+        state: State,
     ) -> Back {
         let Some((s0, h0)) = self.start else {
             return Back::Lost;
         };
-        if v == s0 && h == usize::from(h0.index()) && d == 0 {
-            return Back::Start;
-        }
         let t = self.timing;
-        if let Some(u) = self.drive_pred(map, v, h, d) {
-            return Back::Drive((u, h, d - t.edge));
+        let (v, mut h, mut d) = state;
+        for _ in 0..4 {
+            if v == s0 && h == usize::from(h0.index()) && d == 0 {
+                return Back::Start;
+            }
+            if let Some(u) = self.drive_pred(map, v, h, d) {
+                return Back::Drive {
+                    into: (v, h, d),
+                    from: (u, h, d - t.edge),
+                };
+            }
+            let cv = self.cells.as_ref().get(v);
+            let turn = [(h + 3) & 3, (h + 1) & 3].into_iter().find(|&hp| {
+                cv.and_then(|c| c.pose_dist(hp))
+                    .is_some_and(|dp| dp + t.quarter_turn == d)
+            });
+            let Some(hp) = turn else { break };
+            h = hp;
+            d -= t.quarter_turn;
         }
-        let cv = self.cells.as_ref().get(v);
-        let turn = [(h + 3) & 3, (h + 1) & 3].into_iter().find(|&hp| {
-            cv.and_then(|c| c.pose_dist(hp))
-                .is_some_and(|dp| dp + t.quarter_turn == d)
-        });
-        match turn {
-            Some(hp) => Back::Turn((v, hp, d - t.quarter_turn)),
-            None => Back::Lost,
-        }
+        Back::Lost
     }
 
     /// The heading the robot must face to leave the start node on the
@@ -946,7 +955,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let (Some(dv), Some(first)) = (self.dist_at(via), self.last_state(v)) else {
             return false;
         };
-        let limit = self.bounds.area().saturating_mul(4).saturating_add(4);
+        let limit = self.bounds.area().saturating_add(1);
         // Walk back to the answer: `via` driven into, fallen below its
         // distance (it cannot come any more), the start, or a state whose
         // answer is known.
@@ -959,16 +968,15 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             }
             match self.step_back(map, state) {
                 Back::Start | Back::Lost => break,
-                Back::Turn(prev) => state = prev,
-                Back::Drive(prev) => {
-                    if state.0 == via {
+                Back::Drive { into, from } => {
+                    if into.0 == via {
                         answer = true;
                         break;
                     }
-                    if state.2 < dv {
+                    if into.2 < dv {
                         break;
                     }
-                    state = prev;
+                    state = from;
                 }
             }
         }
@@ -982,12 +990,11 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             self.set_memo(state, answer);
             match self.step_back(map, state) {
                 Back::Start | Back::Lost => break,
-                Back::Turn(prev) => state = prev,
-                Back::Drive(prev) => {
-                    if state.0 == via || state.2 < dv {
+                Back::Drive { into, from } => {
+                    if into.0 == via || into.2 < dv {
                         break;
                     }
-                    state = prev;
+                    state = from;
                 }
             }
         }
@@ -996,12 +1003,12 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
 
     /// The memoised answer of state `(node, heading, _)`, if any: two bits
     /// per heading (known, answer) in the node's first ring slot.
-    fn memo_at(&self, (v, h, _): (usize, usize, Ticks)) -> Option<bool> {
+    fn memo_at(&self, (v, h, _): State) -> Option<bool> {
         let bits = self.cells.as_ref().get(v)?.ring_a >> (2 * h);
         (bits & 1 != 0).then_some(bits & 2 != 0)
     }
 
-    fn set_memo(&mut self, (v, h, _): (usize, usize, Ticks), answer: bool) {
+    fn set_memo(&mut self, (v, h, _): State, answer: bool) {
         if let Some(c) = self.cells.as_mut().get_mut(v) {
             c.ring_a |= (1 | (u32::from(answer) << 1)) << (2 * h);
         }
@@ -1047,20 +1054,19 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let Some(mut state) = self.last_state(target) else {
             return false;
         };
-        for _ in 0..self.bounds.area().saturating_mul(4).saturating_add(4) {
+        for _ in 0..self.bounds.area().saturating_add(1) {
             match self.step_back(map, state) {
                 Back::Start => return true,
                 Back::Lost => return false,
-                Back::Turn(prev) => state = prev,
-                Back::Drive(prev) => {
-                    if let Some(c) = self.cells.as_mut().get_mut(state.0) {
+                Back::Drive { into, from } => {
+                    if let Some(c) = self.cells.as_mut().get_mut(into.0) {
                         if on {
                             c.ring_b |= ON_WAY;
                         } else {
                             c.ring_b &= !ON_WAY;
                         }
                     }
-                    state = prev;
+                    state = from;
                 }
             }
         }

@@ -31,6 +31,23 @@ pub(crate) struct Candidates {
 }
 
 impl Candidates {
+    /// No candidates yet for a team of `k`: every pair forbidden.
+    pub(crate) fn empty(k: usize) -> Candidates {
+        Candidates {
+            k,
+            m: 0,
+            nodes: [0; MAX_CANDIDATES],
+            cost: [[INF; MAX_CANDIDATES]; MAX_ROBOTS],
+        }
+    }
+
+    /// The team size, if the team can be planned for: some robots, no more
+    /// than [`MAX_ROBOTS`], and a field for each.
+    fn team_size<M, F>(ctx: &Context<'_, M>, fields: &[DistField<F>]) -> Option<usize> {
+        let k = ctx.robots.len();
+        (k > 0 && k <= MAX_ROBOTS && fields.len() >= k).then_some(k)
+    }
+
     /// Computes one full field per robot (`fields[j]` from robot `j`'s pose)
     /// and collects each robot's `per_robot` cheapest frontier nodes. Returns
     /// `None` when there are too few fields or too many robots.
@@ -44,16 +61,10 @@ impl Candidates {
         M: AsRef<[Block]> + AsMut<[Block]>,
         F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
     {
-        let k = ctx.robots.len();
-        if k > MAX_ROBOTS || fields.len() < k || k == 0 {
+        let Some(k) = Self::team_size(ctx, fields) else {
             return Ok(None);
-        }
-        let mut c = Candidates {
-            k,
-            m: 0,
-            nodes: [0; MAX_CANDIDATES],
-            cost: [[INF; MAX_CANDIDATES]; MAX_ROBOTS],
         };
+        let mut c = Candidates::empty(k);
         let per_robot = per_robot.clamp(1, MAX_CANDIDATES / k);
         for (r, field) in ctx.robots.iter().zip(fields.iter_mut()) {
             let mut found = 0usize;
@@ -145,21 +156,15 @@ impl Candidates {
         M: AsRef<[Block]> + AsMut<[Block]>,
         F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
     {
-        let k = ctx.robots.len();
-        if k > MAX_ROBOTS || fields.len() < k || k == 0 {
+        let Some(k) = Self::team_size(ctx, fields) else {
             return Ok(None);
-        }
+        };
         if spread == 0 && ctx.map.frontier_len() < per_robot.min(k) {
             if let Some(c) = Self::endgame(ctx, fields, &mut cost, &mut floor, bound)? {
                 return Ok(Some(c));
             }
         }
-        let mut c = Candidates {
-            k,
-            m: 0,
-            nodes: [0; MAX_CANDIDATES],
-            cost: [[INF; MAX_CANDIDATES]; MAX_ROBOTS],
-        };
+        let mut c = Candidates::empty(k);
         let per_robot = per_robot.clamp(1, (MAX_CANDIDATES / k).min(MAX_ROBOTS + 4));
         let map = ctx.map;
         let bounds = map.bounds();
@@ -257,12 +262,7 @@ impl Candidates {
         F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
     {
         let (map, k, me) = (ctx.map, ctx.robots.len(), ctx.me);
-        let mut c = Candidates {
-            k,
-            m: 0,
-            nodes: [0; MAX_CANDIDATES],
-            cost: [[INF; MAX_CANDIDATES]; MAX_ROBOTS],
-        };
+        let mut c = Candidates::empty(k);
         let (Some(r), Some(field)) = (ctx.robots.get(me), fields.get_mut(me)) else {
             return Ok(None);
         };

@@ -93,12 +93,8 @@ proptest! {
         }
         let frontier: Vec<usize> = (0..area).filter(|&i| map.is_frontier_at(i)).collect();
         prop_assume!(frontier.len() <= MAX_CANDIDATES);
-        let mut all = Candidates {
-            k,
-            m: frontier.len(),
-            nodes: [0; MAX_CANDIDATES],
-            cost: [[INF; MAX_CANDIDATES]; MAX_ROBOTS],
-        };
+        let mut all = Candidates::empty(k);
+        all.m = frontier.len();
         for (col, &i) in frontier.iter().enumerate() {
             all.nodes[col] = i;
             for j in 0..k {
