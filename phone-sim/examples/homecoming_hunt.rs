@@ -45,7 +45,36 @@ fn main() {
         ) else {
             continue;
         };
-        let o = sim.run();
+        // `HUNT_TRACE=1` prints every run's timeline (as `examples/timeline.rs`
+        // does), for reading one case: run it with RUNS 1 and its seed.
+        let o = if std::env::var_os("HUNT_TRACE").is_some() {
+            let n = sim.bodies().bodies().len();
+            let mut last: Vec<Option<String>> = vec![None; n];
+            while sim.step() {
+                for (i, (b, f)) in sim.bodies().bodies().iter().zip(sim.firmware()).enumerate() {
+                    let a = f.agent();
+                    let line = format!(
+                        "({:>2},{:>2}) {:?} {:?} target {:?}{}{}",
+                        b.pos.x,
+                        b.pos.y,
+                        b.heading,
+                        a.mode(),
+                        a.target().map(|p| (p.x, p.y)),
+                        if b.is_idle() { " standing" } else { "" },
+                        a.retreating()
+                            .map(|(p, id)| format!(" retreat to ({},{}) for r{}", p.x, p.y, id.0))
+                            .unwrap_or_default()
+                    );
+                    if last[i].as_deref() != Some(line.as_str()) {
+                        println!("{:>9.2} r{i} {line}", f64::from(sim.now()) / 1000.0);
+                        last[i] = Some(line);
+                    }
+                }
+            }
+            sim.outcome()
+        } else {
+            sim.run()
+        };
         if !o.complete {
             incomplete += 1;
             wrong_map += usize::from(!o.map_correct);

@@ -113,6 +113,35 @@ fn packed_homes_found_by_the_deadlock_hunt() {
     }
 }
 
+/// Homecomings that stalled until stop 16 (the system bench and the
+/// hunt in `examples/homecoming_hunt.rs`, seeds 1..10000):
+/// - random 16², 5 robots: a home entered only through two others, and
+///   the robot that must make way can only leave through a third robot
+///   standing at home (a chained retreat moves both);
+/// - random 4², 3 robots: a home between two others, which depth alone
+///   filled last (the fill order now puts it before one of them);
+/// - random 5 × 8, 3 robots: a way home through a team mate standing at
+///   its home, with a way round it (taken now).
+#[test]
+fn homecomings_that_needed_a_chain_an_order_or_a_way_round() {
+    let cases = [
+        (Kind::Random, 16, 16, 9, 5, 0),
+        (Kind::Random, 4, 4, 878, 3, 15),
+        (Kind::Random, 5, 8, 4744, 3, 15),
+    ];
+    for (kind, w, h, seed, robots, latency_ms) in cases {
+        let f = kind.generate(w, h, seed);
+        let mut config = SimConfig {
+            seed,
+            ..SimConfig::default()
+        };
+        config.faults.channel.latency_ms = latency_ms;
+        config.faults.channel.jitter_ms = if latency_ms > 0 { 7 } else { 0 };
+        let (o, sim) = run(&f, robots, "tempo", config);
+        assert_sound(&o, &sim, &format!("{} with {robots} robots", f.name()));
+    }
+}
+
 /// A robot that made way for a team mate with a deeper home follows it
 /// once it is ahead on the way home, instead of standing until it is home
 /// and then driving the same long way alone. On the demo field (rooms, the

@@ -68,7 +68,11 @@ where
             return;
         }
         if let Some(decision) = self.retreat_decision() {
-            self.follow(decision, out);
+            // The spot is announced as our target: a team mate standing on
+            // our way there learns where we go and retreats off it in turn
+            // (see `on_bumped`), so that a chain of robots can make way.
+            let spot = self.retreat.map(|r| r.spot);
+            self.follow_to(decision, spot, out);
             return;
         }
         let (views, n) = self.views();
@@ -109,6 +113,7 @@ where
         };
         let decision = if matches!(decision.goal, Goal::Home | Goal::Done) && self.map.is_complete()
         {
+            let decision = self.round_settled_mates(decision);
             self.keep_out_of_the_way(decision)
         } else {
             decision
@@ -119,7 +124,12 @@ where
     /// Acts on a decision: announces a new target, sets the mode, turns and
     /// drives, or waits.
     pub(super) fn follow(&mut self, decision: Decision, out: &mut Commands) {
-        let target = decision.target();
+        self.follow_to(decision, decision.target(), out);
+    }
+
+    /// Follows a decision and announces `target` (a frontier node, a
+    /// retreat spot, or none).
+    pub(super) fn follow_to(&mut self, decision: Decision, target: Option<Pos>, out: &mut Commands) {
         if target != self.target {
             self.target = target;
             push(out, Command::Announce { target });
@@ -216,6 +226,38 @@ where
     pub(super) fn backoff(&self) -> Millis {
         let shift = u32::from(self.retries.min(5));
         let base = self.config.backoff_ms.max(TICK_MS);
-        base.saturating_mul(1 << shift) / 2 + base.saturating_mul(u32::from(self.id.0 % 8)) / 2
+        let span = base.saturating_mul(1 << shift);
+        span / 2 + base.saturating_mul(u32::from(self.id.0 % 8)) / 2 + self.jitter(span, self.now)
     }
+
+    /// A pseudo-random wait in `0..span` while the team comes home (zero
+    /// before): robots that make way for each other on fixed timings can
+    /// repeat the same dance for ever, and random waits break such cycles,
+    /// as Ethernet's random back-off breaks repeated collisions. Drawn
+    /// from the robot, the place and a moment (`at`: now, or when a wait
+    /// began, so that the draw holds while it lasts), so a seeded run
+    /// repeats.
+    pub(super) fn jitter(&self, span: Millis, at: Millis) -> Millis {
+        if !self.map.is_complete() {
+            return 0;
+        }
+        draw(self.id, self.pos, at, span)
+    }
+}
+
+/// A pseudo-random number in `0..span` (zero if `span` is) from a robot,
+/// a place and a moment: SplitMix64's finaliser over them.
+pub(super) fn draw(id: RobotId, pos: Pos, at: Millis, span: Millis) -> Millis {
+    if span == 0 {
+        return 0;
+    }
+    let mut x = (u64::from(at) << 24)
+        ^ (u64::from(id.0) << 56)
+        ^ (u64::from(pos.x as u16) << 8)
+        ^ u64::from(pos.y as u16);
+    x = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    x ^= x >> 31;
+    (x % u64::from(span)) as Millis
 }

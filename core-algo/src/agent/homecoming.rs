@@ -42,48 +42,39 @@ where
             self.mode = Mode::Return;
             self.finished_sent = false;
         }
-        // The robot that bumped us stands on the node it came from; its way
-        // (to its target, else home) tells where not to escape to: straight
-        // on along its way, it would only bump us again, and push us along
-        // its way into the packed homes.
+        // The robot that bumped us stands on the node it came from.
         let bounds = self.map.bounds();
-        let bumper = self.pos.step(toward).and_then(|from| {
-            self.peers
-                .iter()
-                .find(|q| q.known && !q.failed && q.pos == from)
-        });
-        let way = match (bumper, self.fields.first_mut()) {
-            (Some(q), Some(field)) => {
-                let goal = bounds.index(q.target.unwrap_or(q.home));
-                let reached = goal.is_some()
-                    && field
-                        .compute(&self.map, self.config.timing, q.pos, q.heading, |v, _| {
-                            if Some(v) == goal {
-                                Flow::Stop
-                            } else {
-                                Flow::Continue
-                            }
-                        })
-                        .is_ok();
-                goal.filter(|_| reached)
-            }
-            _ => None,
-        };
-        // Once the map is complete and the bumper's home fills first, one
-        // edge is not enough: in a corridor we would only be bumped again,
-        // or come back into its way. Retreat to the nearest node off its
-        // way and hold there until it is home.
-        let first = bumper.map(|q| q.pos).and_then(|from| {
+        let first = self.pos.step(toward).and_then(|from| {
             self.peers
                 .iter()
                 .position(|q| q.known && !q.failed && q.pos == from)
         });
-        if let Some(b) = first.filter(|&b| self.goes_first(b)) {
-            if self.plan_retreat(b) {
+        // At home and in the way of a bumper that retreats itself (its
+        // target, once the map is complete, is its retreat spot): it needs
+        // us off that way, or the robot it makes way for never gets in.
+        // The chain goes on until someone reaches a free node.
+        let here = bounds.index(self.pos);
+        let chained = first
+            .filter(|&b| self.pos == self.home && self.retreating_peer(b))
+            .and_then(|b| self.plan_way_of(b, true))
+            .is_some_and(|(_, goal)| {
+                here.zip(self.fields.first())
+                    .is_some_and(|(h, f)| f.path_passes(&self.map, goal, h))
+            });
+        // Once the map is complete and the bumper's home fills first, one
+        // edge is not enough: in a corridor we would only be bumped again,
+        // or come back into its way. Retreat to the nearest node off its
+        // way and hold there until it is home.
+        if let Some(b) = first.filter(|&b| chained || self.goes_first(b)) {
+            if self.plan_retreat(b, chained) {
                 self.decide(out);
                 return Ok(());
             }
         }
+        // Otherwise step off the bumper's way (to its target, else home):
+        // straight on along it, we would only be bumped again, and pushed
+        // along it into the packed homes.
+        let way = first.and_then(|b| self.plan_way_of(b, false)).map(|(_, goal)| goal);
         let (map, fields, peers, me) = (&self.map, &self.fields, &self.peers, self.id.index());
         let on_way = |v: Option<usize>| match (way, v, fields.first()) {
             (Some(goal), Some(v), Some(field)) => field.path_passes(map, goal, v),
@@ -124,6 +115,14 @@ where
         Ok(())
     }
 
+    /// Whether team mate `i` is retreating: once the map is complete, the
+    /// only target a robot announces is its retreat spot.
+    pub(super) fn retreating_peer(&self, i: usize) -> bool {
+        self.map.is_complete()
+            && i != self.id.index()
+            && self.peers.get(i).is_some_and(|q| q.known && !q.failed && q.target.is_some())
+    }
+
     /// Whether team mate `i`'s home fills before ours: known only once the
     /// map is complete and the depths are computed.
     pub(super) fn goes_first(&self, i: usize) -> bool {
@@ -135,6 +134,64 @@ where
             && self.map.is_complete()
             && i != me
             && (theirs, core::cmp::Reverse(i)) > (mine, core::cmp::Reverse(me))
+    }
+
+    /// A way home through a team mate that stands at its home runs into
+    /// it: it can only make way by leaving home, and in packed homes it
+    /// has nowhere to go (the two then dance for ever). Takes the cheapest
+    /// way round every such team mate instead, if there is one: a
+    /// node-weighted field where entering a settled home costs more than
+    /// any way round (turns are left out of that field; they only pick
+    /// the first move, and the next decision plans again).
+    pub(super) fn round_settled_mates(&mut self, decision: Decision) -> Decision {
+        if decision.goal != Goal::Home || decision.next.is_none() || !self.map.is_complete() {
+            return decision;
+        }
+        let bounds = self.map.bounds();
+        let me = self.id.index();
+        let Some(home) = bounds.index(self.home) else {
+            return decision;
+        };
+        let settled: Vec<usize, MAX_ROBOTS> = self
+            .peers
+            .iter()
+            .enumerate()
+            .filter(|(i, q)| *i != me && q.known && !q.failed && q.pos == q.home)
+            .filter_map(|(_, q)| bounds.index(q.pos))
+            .collect();
+        let (map, timing, pos, heading) = (&self.map, self.config.timing, self.pos, self.heading);
+        let Some(field) = self.fields.first_mut().filter(|_| !settled.is_empty()) else {
+            return decision;
+        };
+        let planned = field
+            .compute(map, timing, pos, heading, |v, _| {
+                if v == home { Flow::Stop } else { Flow::Continue }
+            })
+            .is_ok()
+            && field.dist_at(home).is_some();
+        if !planned || !settled.iter().any(|&s| field.path_passes(map, home, s)) {
+            return decision;
+        }
+        let edge = timing.edge.max(1);
+        let wall = edge
+            .saturating_mul(u32::try_from(bounds.area()).unwrap_or(u32::MAX).saturating_add(1))
+            .min(crate::path::MAX_DIST / 32);
+        let round = field
+            .compute_weighted(
+                map,
+                pos,
+                |v| if settled.contains(&v) { wall } else { edge },
+                |v, _| if v == home { Flow::Stop } else { Flow::Continue },
+            )
+            .is_ok()
+            && field.dist_at(home).is_some_and(|d| d < wall);
+        match field.weighted_first_heading(home).filter(|_| round) {
+            Some(h) => Decision {
+                goal: Goal::Home,
+                next: Some(h),
+            },
+            None => decision,
+        }
     }
 
     /// Homecoming without deadlock: robots cannot pass each other on a
@@ -162,6 +219,7 @@ where
                     .filter(|(i, p)| *i != me && p.known)
                     .map(|(i, p)| (i, p.home)),
             );
+            let mut depths: Vec<(usize, Pos, u64), MAX_ROBOTS> = Vec::new();
             for (i, home) in homes {
                 let mut sum: u64 = 0;
                 let ok = mine
@@ -170,10 +228,11 @@ where
                         Flow::Continue
                     })
                     .is_ok();
-                if let Some(slot) = self.depth.get_mut(i) {
-                    *slot = if ok { sum } else { 0 };
-                }
+                let _ = depths.push((i, home, if ok { sum } else { 0 }));
             }
+            // Depth orders the homes where the field leaves a choice; a home
+            // entered only through others fills before them.
+            self.depth = super::fill_order::fill_ranks(map, &depths);
         }
         let depth = self.depth;
         let my_depth = depth.get(me).copied().unwrap_or(0);
@@ -295,7 +354,8 @@ where
             self.gated_since = None;
         }
         let since = *self.gated_since.get_or_insert(now);
-        let patience = timing.edge.saturating_mul(TICK_MS).saturating_mul(40);
+        let edge_ms = timing.edge.saturating_mul(TICK_MS);
+        let patience = edge_ms.saturating_mul(40) + super::decide::draw(self.id, pos, since, edge_ms.saturating_mul(20));
         if !gated || now.wrapping_sub(since) > patience {
             if !gated {
                 self.gated_since = None;

@@ -40,6 +40,7 @@ use heapless::Vec;
 
 pub mod body;
 mod decide;
+mod fill_order;
 pub mod firmware;
 mod homecoming;
 mod io;
@@ -104,6 +105,10 @@ struct Retreat {
     /// when the bumper's way does not come through where we stood.
     leave: Option<Pos>,
     bumper: usize,
+    /// The bumper stood at home and retreats itself (a chain, see
+    /// `on_bumped`): its way is the one to its announced spot, and it
+    /// needs it until it is back home with no spot.
+    chained: bool,
     /// Where the bumper stood when we last saw it move, and when.
     bumper_at: Pos,
     since: Millis,
@@ -347,9 +352,10 @@ where
             // not come back together.
             let edge_ms = self.config.timing.edge.saturating_mul(TICK_MS);
             let edges = 6 + 4 * u32::from(self.id.0 % 8);
+            let wait = edge_ms.saturating_mul(edges) + self.jitter(edge_ms.saturating_mul(8), self.now);
             self.yielding = true;
             self.motion = Motion::Waiting {
-                until: self.now.wrapping_add(edge_ms.saturating_mul(edges)),
+                until: self.now.wrapping_add(wait),
             };
         } else {
             self.decide(out);
@@ -379,7 +385,7 @@ where
                 .iter()
                 .position(|q| q.known && !q.failed && q.pos == blocked);
             if let Some(b) = b.filter(|&b| self.goes_first(b) || self.retries >= 3) {
-                self.plan_retreat(b);
+                self.plan_retreat(b, false);
             }
         }
         // Tell the team where we stand and which way we face now: a team

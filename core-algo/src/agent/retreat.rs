@@ -20,12 +20,13 @@ where
     F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
     S: Strategy<M, F>,
 {
-    /// Plans team mate `b`'s way (to its target, else home) from where it
-    /// stands in the first field; the team mate and the goal's node if the
-    /// way was found.
-    fn plan_way_of(&mut self, b: usize) -> Option<(Peer, usize)> {
+    /// Plans team mate `b`'s way from where it stands in the first field:
+    /// to its retreat spot if `chained`, else home (or, while the map
+    /// grows, to its target); the team mate and the goal's node if the way
+    /// was found.
+    pub(super) fn plan_way_of(&mut self, b: usize, chained: bool) -> Option<(Peer, usize)> {
         let q = self.peers.get(b).copied()?;
-        let goal = self.map.bounds().index(q.target.unwrap_or(q.home))?;
+        let goal = self.map.bounds().index(way_end(&q, chained, self.map.is_complete()))?;
         let field = self.fields.first_mut()?;
         let reached = field
             .compute(&self.map, self.config.timing, q.pos, q.heading, |v, _| {
@@ -42,11 +43,11 @@ where
     /// Plans a retreat out of team mate `b`'s way (to its target, else
     /// home) and starts it (the next decision drives it); whether there is
     /// somewhere to go.
-    pub(super) fn plan_retreat(&mut self, b: usize) -> bool {
+    pub(super) fn plan_retreat(&mut self, b: usize, chained: bool) -> bool {
         if !self.peers.get(b).is_some_and(|q| q.known && !q.failed) {
             return false;
         }
-        let Some((q, goal)) = self.plan_way_of(b) else {
+        let Some((q, goal)) = self.plan_way_of(b, chained) else {
             return false;
         };
         let Some((spot, leave)) = self.retreat_spot(goal, q.pos) else {
@@ -56,6 +57,7 @@ where
             spot,
             leave,
             bumper: b,
+            chained,
             bumper_at: q.pos,
             since: self.now,
         });
@@ -98,6 +100,10 @@ where
         };
         let mut found = None;
         let mut first = true;
+        // The nearest spot whose way runs through a team mate standing
+        // elsewhere: taken only if no spot is free of them (the team mate
+        // is then asked to make way in turn, see `on_bumped`).
+        let mut through_mate = None;
         loop {
             let mut reached = |v: usize, d: Ticks| {
                 if d > 0 && free(v) {
@@ -113,8 +119,9 @@ where
                 mine.resume(map, &mut reached)
             };
             first = false;
-            result.ok()?;
-            let v = found.take()?;
+            let Some(v) = found.take().filter(|_| result.is_ok()) else {
+                return through_mate;
+            };
             if !mine.path_passes(map, v, blocked) {
                 // Only a bumper whose way comes through here can be seen to
                 // pass; one that bumped us on its way elsewhere (to a retreat
@@ -125,7 +132,19 @@ where
                 let leave = through_here.and_then(|h| {
                     mine.first_back(map, v, |u| u == h || theirs.path_passes(map, goal, u))
                 });
-                return Some((bounds.pos(v), leave.map(|u| bounds.pos(u))));
+                let spot = Some((bounds.pos(v), leave.map(|u| bounds.pos(u))));
+                let blocked_by_mate = peers.iter().enumerate().any(|(i, q)| {
+                    i != me
+                        && q.known
+                        && !q.failed
+                        && bounds
+                            .index(q.pos)
+                            .is_some_and(|at| at != blocked && mine.path_passes(map, v, at))
+                });
+                if !blocked_by_mate {
+                    return spot;
+                }
+                through_mate = through_mate.or(spot);
             }
         }
     }
@@ -150,11 +169,14 @@ where
         } else {
             3
         };
-        let patience = timing.edge.saturating_mul(TICK_MS).saturating_mul(edges);
+        let edge_ms = timing.edge.saturating_mul(TICK_MS);
+        let patience = edge_ms.saturating_mul(edges) + self.jitter(edge_ms.saturating_mul(edges / 2), r.since);
         let over = self
             .peers
             .get(r.bumper)
-            .is_none_or(|q| !q.known || q.failed || q.pos == q.home)
+            .is_none_or(|q| {
+                !q.known || q.failed || (q.pos == q.home && !(r.chained && q.target.is_some()))
+            })
             || self.now.wrapping_sub(r.since) > patience
             || !self.map.is_complete()
             || self.may_follow() && self.bumper_clear(r);
@@ -208,7 +230,7 @@ where
     /// second.
     fn bumper_clear(&mut self, r: Retreat) -> bool {
         let bounds = self.map.bounds();
-        let Some((q, goal)) = self.plan_way_of(r.bumper) else {
+        let Some((q, goal)) = self.plan_way_of(r.bumper, r.chained) else {
             return false;
         };
         let (map, timing, pos, heading) = (&self.map, self.config.timing, self.pos, self.heading);
@@ -271,5 +293,16 @@ where
         let moving = Some(first) != at
             || self.now.wrapping_sub(r.since) < timing.edge.saturating_mul(2 * TICK_MS);
         same_way && moving && their.saturating_add(timing.edge.saturating_mul(2)) <= ours
+    }
+}
+
+/// Where team mate `q`'s way ends: its announced retreat spot in a chain
+/// (see `on_bumped`); home once the map is complete (a target announced
+/// then is a retreat spot, and the way that matters to whoever it bumps is
+/// the one home, which it takes next); else its target, if any.
+fn way_end(q: &Peer, chained: bool, complete: bool) -> Pos {
+    match q.target {
+        Some(t) if chained || !complete => t,
+        _ => q.home,
     }
 }

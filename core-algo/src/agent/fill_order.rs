@@ -1,0 +1,149 @@
+//! The order in which homes fill. Robots cannot pass each other, so a home
+//! that can only be entered through other homes must fill before them: a
+//! robot already at home would otherwise plug the only way in for good.
+//! The order is built backwards: the home that fills last is one still
+//! reachable from the open field with every other home taken; among those,
+//! the shallowest. Each home has such an order whenever any order works
+//! (taking a home out of a working order leaves the rest working), and
+//! every robot computes the same one from the complete map and the homes.
+
+use super::*;
+
+/// A home opens onto the field when it reaches this many free nodes (or
+/// more than half of all free nodes) without passing another home: a
+/// pocket closed in by homes is smaller. Bounds the search, and its
+/// memory, on large fields.
+const OPEN_REGION: usize = 64;
+
+/// Fill ranks for `homes` (robot, home, depth: the home's total distance
+/// to every node, larger for dead ends): a larger rank fills first, ranks
+/// are distinct, and robots not listed get 0.
+pub(super) fn fill_ranks<M>(map: &KnownMap<M>, homes: &[(usize, Pos, u64)]) -> [u64; MAX_ROBOTS]
+where
+    M: AsRef<[Block]> + AsMut<[Block]>,
+{
+    let mut ranks = [0; MAX_ROBOTS];
+    let mut left: Vec<(usize, Pos, u64), MAX_ROBOTS> = homes.iter().copied().collect();
+    let free = map.known_len().saturating_sub(homes.len());
+    let mut rank = 1;
+    while !left.is_empty() {
+        // The home that fills last among those left: open with the others
+        // taken, then the shallowest, then the highest id (the order the
+        // depth alone gave before, wherever the field allows it).
+        let last = left
+            .iter()
+            .enumerate()
+            .min_by_key(|&(_, &(i, home, depth))| {
+                let taken = |p: Pos| left.iter().any(|&(j, h, _)| j != i && h == p);
+                (!opens_onto_field(map, home, taken, free), depth, core::cmp::Reverse(i))
+            })
+            .map(|(k, &(i, _, _))| (k, i));
+        let Some((k, i)) = last else { break };
+        if let Some(r) = ranks.get_mut(i) {
+            *r = rank;
+        }
+        rank += 1;
+        left.swap_remove(k);
+    }
+    ranks
+}
+
+/// Whether `home` reaches the open field (see [`OPEN_REGION`]) over known
+/// arms without entering a `taken` node; `free` is the number of nodes
+/// that are nobody's home.
+fn opens_onto_field<M>(map: &KnownMap<M>, home: Pos, taken: impl Fn(Pos) -> bool, free: usize) -> bool
+where
+    M: AsRef<[Block]> + AsMut<[Block]>,
+{
+    let enough = (free / 2 + 1).min(OPEN_REGION);
+    // Breadth first, the queue doubling as the set of nodes seen: small
+    // enough that a linear `contains` is cheaper than a hash set.
+    let mut seen: Vec<Pos, { OPEN_REGION + 1 }> = Vec::new();
+    if seen.push(home).is_err() {
+        return false;
+    }
+    let mut next = 0;
+    while let Some(&p) = seen.get(next) {
+        next += 1;
+        let Some(arms) = map.known_arms(p) else {
+            continue;
+        };
+        for h in Heading::ALL {
+            let Some(q) = p.step(h).filter(|_| arms.has(h)) else {
+                continue;
+            };
+            if taken(q) || seen.contains(&q) {
+                continue;
+            }
+            if seen.push(q).is_err() || seen.len() > enough {
+                return true;
+            }
+        }
+    }
+    false
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::map::Bounds;
+
+    /// A map from rows of arm strings, `y` growing upwards (row 0 is the
+    /// top line of `rows`).
+    fn map(rows: &[&[&str]]) -> KnownMap<[Block; 4]> {
+        let h = rows.len() as i16;
+        let w = rows.first().map_or(0, |r| r.len()) as i16;
+        let mut m = KnownMap::new([Block::EMPTY; 4], Bounds::new(Pos::new(0, 0), w as u16, h as u16)).unwrap();
+        for (r, row) in rows.iter().enumerate() {
+            for (x, arms) in row.iter().enumerate() {
+                let a = arms.chars().fold(Arms::NONE, |a, c| {
+                    a.with(match c {
+                        'N' => Heading::North,
+                        'E' => Heading::East,
+                        'S' => Heading::South,
+                        _ => Heading::West,
+                    })
+                });
+                m.visit(Pos::new(x as i16, h - 1 - r as i16), a, RobotId(0)).unwrap();
+            }
+        }
+        m
+    }
+
+    #[test]
+    fn a_home_entered_only_through_other_homes_fills_first() {
+        // A 3 × 3 grid: the corner (0, 0) is entered only through (0, 1)
+        // and (1, 0). Its depth is the smallest, so depth alone would fill
+        // it last, behind both, and it could never be entered.
+        let m = map(&[
+            &["ES", "ESW", "SW"],
+            &["NES", "NESW", "NSW"],
+            &["NE", "NEW", "NW"],
+        ]);
+        let homes = [(0, Pos::new(0, 0), 1), (1, Pos::new(0, 1), 5), (2, Pos::new(1, 0), 6)];
+        let ranks = fill_ranks(&m, &homes);
+        assert!(ranks[0] > ranks[1] || ranks[0] > ranks[2], "{ranks:?}");
+        // Depth still orders the two that are free to go either way.
+        assert!(ranks[2] > ranks[1], "{ranks:?}");
+    }
+
+    #[test]
+    fn without_constraints_the_deeper_home_fills_first() {
+        let m = map(&[&["E", "EW", "EW", "W"]]);
+        let homes = [(0, Pos::new(1, 0), 3), (1, Pos::new(2, 0), 4)];
+        // Each opens onto a free end with the other taken: depth decides.
+        let ranks = fill_ranks(&m, &homes);
+        assert!(ranks[1] > ranks[0], "{ranks:?}");
+        assert_eq!(ranks[5], 0);
+    }
+
+    #[test]
+    fn a_corridor_of_homes_fills_from_its_dead_end() {
+        // (0, 0) - (1, 0) - (2, 0) - (3, 0) - (4, 0): homes on the first
+        // three, the dead end first whatever the depths say.
+        let m = map(&[&["E", "EW", "EW", "EW", "W"]]);
+        let homes = [(0, Pos::new(0, 0), 1), (1, Pos::new(1, 0), 2), (2, Pos::new(2, 0), 3)];
+        let ranks = fill_ranks(&m, &homes);
+        assert!(ranks[0] > ranks[1] && ranks[1] > ranks[2], "{ranks:?}");
+    }
+}
