@@ -136,6 +136,43 @@ where
             && (theirs, core::cmp::Reverse(i)) > (mine, core::cmp::Reverse(me))
     }
 
+    /// Computes the order in which homes fill (`depth`, see `fill_order`)
+    /// once the map is complete: every robot gets the same.
+    fn know_fill_order(&mut self) {
+        if self.depth_known || !self.map.is_complete() {
+            return;
+        }
+        self.depth_known = true;
+        let me = self.id.index();
+        let (map, timing) = (&self.map, self.config.timing);
+        let Some(field) = self.fields.first_mut() else {
+            return;
+        };
+        let homes = core::iter::once((me, self.home)).chain(
+            self.peers
+                .iter()
+                .enumerate()
+                .filter(|(i, p)| *i != me && p.known)
+                .map(|(i, p)| (i, p.home)),
+        );
+        // A home's depth: its total distance to every node (a dead end
+        // scores high, a junction low).
+        let mut depths: Vec<(usize, Pos, u64), MAX_ROBOTS> = Vec::new();
+        for (i, home) in homes {
+            let mut sum: u64 = 0;
+            let ok = field
+                .compute(map, timing, home, Heading::North, |_, d| {
+                    sum = sum.saturating_add(u64::from(d));
+                    Flow::Continue
+                })
+                .is_ok();
+            let _ = depths.push((i, home, if ok { sum } else { 0 }));
+        }
+        // Depth orders the homes where the field leaves a choice; a home
+        // entered only through others fills before them.
+        self.depth = super::fill_order::fill_ranks(map, &depths);
+    }
+
     /// A way home through a team mate that stands at its home runs into
     /// it: it can only make way by leaving home, and in packed homes it
     /// has nowhere to go (the two then dance for ever). Takes the cheapest
@@ -148,15 +185,17 @@ where
             return decision;
         }
         let bounds = self.map.bounds();
-        let me = self.id.index();
         let Some(home) = bounds.index(self.home) else {
             return decision;
         };
+        // Only those whose homes fill before ours stay put: the others make
+        // way for us when we bump them.
+        self.know_fill_order();
         let settled: Vec<usize, MAX_ROBOTS> = self
             .peers
             .iter()
             .enumerate()
-            .filter(|(i, q)| *i != me && q.known && !q.failed && q.pos == q.home)
+            .filter(|&(i, q)| q.known && !q.failed && q.pos == q.home && self.goes_first(i))
             .filter_map(|(_, q)| bounds.index(q.pos))
             .collect();
         let (map, timing, pos, heading) = (&self.map, self.config.timing, self.pos, self.heading);
@@ -200,6 +239,7 @@ where
     /// as near to its home as it can, until they are in. Needs one planner field per team mate
     /// (`K > 1`); with a single field the decision is kept as it is.
     pub(super) fn keep_out_of_the_way(&mut self, decision: Decision) -> Decision {
+        self.know_fill_order();
         let bounds = self.map.bounds();
         let Some(my_home) = bounds.index(self.home) else {
             return decision;
@@ -210,30 +250,6 @@ where
         let Some((mine, rest)) = self.fields.split_first_mut() else {
             return decision;
         };
-        if !self.depth_known {
-            self.depth_known = true;
-            let homes = core::iter::once((me, self.home)).chain(
-                self.peers
-                    .iter()
-                    .enumerate()
-                    .filter(|(i, p)| *i != me && p.known)
-                    .map(|(i, p)| (i, p.home)),
-            );
-            let mut depths: Vec<(usize, Pos, u64), MAX_ROBOTS> = Vec::new();
-            for (i, home) in homes {
-                let mut sum: u64 = 0;
-                let ok = mine
-                    .compute(map, timing, home, Heading::North, |_, d| {
-                        sum = sum.saturating_add(u64::from(d));
-                        Flow::Continue
-                    })
-                    .is_ok();
-                let _ = depths.push((i, home, if ok { sum } else { 0 }));
-            }
-            // Depth orders the homes where the field leaves a choice; a home
-            // entered only through others fills before them.
-            self.depth = super::fill_order::fill_ranks(map, &depths);
-        }
         let depth = self.depth;
         let my_depth = depth.get(me).copied().unwrap_or(0);
         // (field in `rest`, the node its way is walked back from, goes

@@ -10,6 +10,10 @@ use super::*;
 /// it, only while home is farther than this many edges.
 const FOLLOW_FROM_EDGES: u32 = 8;
 
+/// How many more spots a retreat looks at for one not behind a team mate
+/// once it has found one that is (see `retreat_spot`).
+const SPOTS_PAST_A_MATE: u32 = 16;
+
 /// A retreat ends when the team mate it made way for has not moved for this
 /// many edges of time: it may be waiting for us (it let us go first).
 const RETREAT_PATIENCE_EDGES: u32 = 20;
@@ -104,6 +108,10 @@ where
         // elsewhere: taken only if no spot is free of them (the team mate
         // is then asked to make way in turn, see `on_bumped`).
         let mut through_mate = None;
+        // Looked for only among the next few spots after it: in a maze
+        // every spot can lie behind a team mate, and checking the whole
+        // field, each spot's way against each team mate, took minutes.
+        let mut looks_left = SPOTS_PAST_A_MATE;
         loop {
             let mut reached = |v: usize, d: Ticks| {
                 if d > 0 && free(v) {
@@ -145,6 +153,12 @@ where
                     return spot;
                 }
                 through_mate = through_mate.or(spot);
+            }
+            if through_mate.is_some() {
+                if looks_left == 0 {
+                    return through_mate;
+                }
+                looks_left -= 1;
             }
         }
     }
