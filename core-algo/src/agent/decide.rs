@@ -129,7 +129,12 @@ where
 
     /// Follows a decision and announces `target` (a frontier node, a
     /// retreat spot, or none).
-    pub(super) fn follow_to(&mut self, decision: Decision, target: Option<Pos>, out: &mut Commands) {
+    pub(super) fn follow_to(
+        &mut self,
+        decision: Decision,
+        target: Option<Pos>,
+        out: &mut Commands,
+    ) {
         if target != self.target {
             self.target = target;
             push(out, Command::Announce { target });

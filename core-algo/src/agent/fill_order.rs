@@ -35,7 +35,11 @@ where
             .enumerate()
             .min_by_key(|&(_, &(i, home, depth))| {
                 let taken = |p: Pos| left.iter().any(|&(j, h, _)| j != i && h == p);
-                (!opens_onto_field(map, home, taken, free), depth, core::cmp::Reverse(i))
+                (
+                    !opens_onto_field(map, home, taken, free),
+                    depth,
+                    core::cmp::Reverse(i),
+                )
             })
             .map(|(k, &(i, _, _))| (k, i));
         let Some((k, i)) = last else { break };
@@ -51,7 +55,12 @@ where
 /// Whether `home` reaches the open field (see [`OPEN_REGION`]) over known
 /// arms without entering a `taken` node; `free` is the number of nodes
 /// that are nobody's home.
-fn opens_onto_field<M>(map: &KnownMap<M>, home: Pos, taken: impl Fn(Pos) -> bool, free: usize) -> bool
+fn opens_onto_field<M>(
+    map: &KnownMap<M>,
+    home: Pos,
+    taken: impl Fn(Pos) -> bool,
+    free: usize,
+) -> bool
 where
     M: AsRef<[Block]> + AsMut<[Block]>,
 {
@@ -93,7 +102,11 @@ mod tests {
     fn map(rows: &[&[&str]]) -> KnownMap<[Block; 4]> {
         let h = rows.len() as i16;
         let w = rows.first().map_or(0, |r| r.len()) as i16;
-        let mut m = KnownMap::new([Block::EMPTY; 4], Bounds::new(Pos::new(0, 0), w as u16, h as u16)).unwrap();
+        let mut m = KnownMap::new(
+            [Block::EMPTY; 4],
+            Bounds::new(Pos::new(0, 0), w as u16, h as u16),
+        )
+        .unwrap();
         for (r, row) in rows.iter().enumerate() {
             for (x, arms) in row.iter().enumerate() {
                 let a = arms.chars().fold(Arms::NONE, |a, c| {
@@ -104,7 +117,8 @@ mod tests {
                         _ => Heading::West,
                     })
                 });
-                m.visit(Pos::new(x as i16, h - 1 - r as i16), a, RobotId(0)).unwrap();
+                m.visit(Pos::new(x as i16, h - 1 - r as i16), a, RobotId(0))
+                    .unwrap();
             }
         }
         m
@@ -120,7 +134,11 @@ mod tests {
             &["NES", "NESW", "NSW"],
             &["NE", "NEW", "NW"],
         ]);
-        let homes = [(0, Pos::new(0, 0), 1), (1, Pos::new(0, 1), 5), (2, Pos::new(1, 0), 6)];
+        let homes = [
+            (0, Pos::new(0, 0), 1),
+            (1, Pos::new(0, 1), 5),
+            (2, Pos::new(1, 0), 6),
+        ];
         let ranks = fill_ranks(&m, &homes);
         assert!(ranks[0] > ranks[1] || ranks[0] > ranks[2], "{ranks:?}");
         // Depth still orders the two that are free to go either way.
@@ -142,8 +160,126 @@ mod tests {
         // (0, 0) - (1, 0) - (2, 0) - (3, 0) - (4, 0): homes on the first
         // three, the dead end first whatever the depths say.
         let m = map(&[&["E", "EW", "EW", "EW", "W"]]);
-        let homes = [(0, Pos::new(0, 0), 1), (1, Pos::new(1, 0), 2), (2, Pos::new(2, 0), 3)];
+        let homes = [
+            (0, Pos::new(0, 0), 1),
+            (1, Pos::new(1, 0), 2),
+            (2, Pos::new(2, 0), 3),
+        ];
         let ranks = fill_ranks(&m, &homes);
         assert!(ranks[0] > ranks[1] && ranks[1] > ranks[2], "{ranks:?}");
+    }
+
+    /// A connected random field of `w` × `h` nodes: a random spanning tree
+    /// (from `tree`, one parent choice per node) plus the extra lattice
+    /// edges that `extra` selects.
+    fn random_map(w: u16, h: u16, tree: &[u8], extra: u64) -> KnownMap<[Block; 4]> {
+        let n = usize::from(w) * usize::from(h);
+        let mut arms = std::vec![Arms::NONE; n];
+        let at = |x: u16, y: u16| usize::from(y) * usize::from(w) + usize::from(x);
+        let join = |arms: &mut [Arms], a: (u16, u16), h: Heading| {
+            let b = match h {
+                Heading::East => (a.0 + 1, a.1),
+                _ => (a.0, a.1 + 1),
+            };
+            arms[at(a.0, a.1)] = arms[at(a.0, a.1)].with(h);
+            arms[at(b.0, b.1)] = arms[at(b.0, b.1)].with(h.opposite());
+        };
+        // Node k > 0 hangs on its west or south neighbour (whichever
+        // exists; `tree` picks when both do): always connected.
+        let mut bit = 0;
+        for y in 0..h {
+            for x in 0..w {
+                let pick = tree.get(usize::from(y * w + x)).copied().unwrap_or(0) & 1;
+                match (x > 0, y > 0) {
+                    (true, true) if pick == 0 => join(&mut arms, (x - 1, y), Heading::East),
+                    (true, true) => join(&mut arms, (x, y - 1), Heading::North),
+                    (true, false) => join(&mut arms, (x - 1, y), Heading::East),
+                    (false, true) => join(&mut arms, (x, y - 1), Heading::North),
+                    (false, false) => {}
+                }
+                for (dx, dy, hd) in [(1, 0, Heading::East), (0, 1, Heading::North)] {
+                    if x + dx < w && y + dy < h {
+                        if extra >> (bit % 64) & 1 == 1 {
+                            join(&mut arms, (x, y), hd);
+                        }
+                        bit += 1;
+                    }
+                }
+            }
+        }
+        let mut m = KnownMap::new([Block::EMPTY; 4], Bounds::new(Pos::new(0, 0), w, h)).unwrap();
+        for y in 0..h {
+            for x in 0..w {
+                m.visit(Pos::new(x as i16, y as i16), arms[at(x, y)], RobotId(0))
+                    .unwrap();
+            }
+        }
+        m
+    }
+
+    /// Whether filling `order` (first fills first) lets each home in:
+    /// open to the field with the homes before it taken.
+    fn works(m: &KnownMap<[Block; 4]>, order: &[Pos], free: usize) -> bool {
+        order.iter().enumerate().all(|(k, &home)| {
+            let before = &order[..k];
+            opens_onto_field(m, home, |p| before.contains(&p), free)
+        })
+    }
+
+    proptest::proptest! {
+        /// The greedy backwards construction finds a working order whenever
+        /// one exists (checked against every order of up to five homes).
+        #[test]
+        fn the_fill_order_works_whenever_some_order_does(
+            w in 2u16..=6,
+            h in 2u16..=6,
+            tree in proptest::collection::vec(0u8..2, 36),
+            extra in proptest::num::u64::ANY,
+            picks in proptest::collection::vec((0u16..36, 0u64..1000), 2..=5),
+        ) {
+            let m = random_map(w, h, &tree, extra);
+            let n = usize::from(w) * usize::from(h);
+            let mut homes: std::vec::Vec<(usize, Pos, u64)> = std::vec::Vec::new();
+            for (k, d) in picks {
+                let v = usize::from(k) % n;
+                let p = Pos::new((v % usize::from(w)) as i16, (v / usize::from(w)) as i16);
+                if !homes.iter().any(|&(_, q, _)| q == p) {
+                    homes.push((homes.len(), p, d));
+                }
+            }
+            let free = m.known_len().saturating_sub(homes.len());
+            let ranks = fill_ranks(&m, &homes);
+            let mut ours: std::vec::Vec<(u64, Pos)> =
+                homes.iter().map(|&(i, p, _)| (ranks[i], p)).collect();
+            ours.sort_by(|a, b| b.0.cmp(&a.0));
+            let ours: std::vec::Vec<Pos> = ours.into_iter().map(|(_, p)| p).collect();
+            // Ranks are distinct and given to every home.
+            for (k, &(i, _, _)) in homes.iter().enumerate() {
+                proptest::prop_assert!(ranks[i] > 0);
+                for &(j, _, _) in &homes[k + 1..] {
+                    proptest::prop_assert_ne!(ranks[i], ranks[j]);
+                }
+            }
+            // Some order works: then ours does.
+            let mut all: std::vec::Vec<Pos> = homes.iter().map(|&(_, p, _)| p).collect();
+            let some = permutations(&mut all, 0, &|o| works(&m, o, free));
+            proptest::prop_assert_eq!(works(&m, &ours, free), some, "{:?}", ours);
+        }
+    }
+
+    /// Whether any order of `items[k..]` (after `items[..k]`) satisfies `ok`.
+    fn permutations(items: &mut [Pos], k: usize, ok: &dyn Fn(&[Pos]) -> bool) -> bool {
+        if k == items.len() {
+            return ok(items);
+        }
+        for i in k..items.len() {
+            items.swap(k, i);
+            let found = permutations(items, k + 1, ok);
+            items.swap(k, i);
+            if found {
+                return true;
+            }
+        }
+        false
     }
 }

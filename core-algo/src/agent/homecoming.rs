@@ -74,7 +74,9 @@ where
         // Otherwise step off the bumper's way (to its target, else home):
         // straight on along it, we would only be bumped again, and pushed
         // along it into the packed homes.
-        let way = first.and_then(|b| self.plan_way_of(b, false)).map(|(_, goal)| goal);
+        let way = first
+            .and_then(|b| self.plan_way_of(b, false))
+            .map(|(_, goal)| goal);
         let (map, fields, peers, me) = (&self.map, &self.fields, &self.peers, self.id.index());
         let on_way = |v: Option<usize>| match (way, v, fields.first()) {
             (Some(goal), Some(v), Some(field)) => field.path_passes(map, goal, v),
@@ -120,7 +122,10 @@ where
     pub(super) fn retreating_peer(&self, i: usize) -> bool {
         self.map.is_complete()
             && i != self.id.index()
-            && self.peers.get(i).is_some_and(|q| q.known && !q.failed && q.target.is_some())
+            && self
+                .peers
+                .get(i)
+                .is_some_and(|q| q.known && !q.failed && q.target.is_some())
     }
 
     /// Whether team mate `i`'s home fills before ours: known only once the
@@ -204,7 +209,11 @@ where
         };
         let planned = field
             .compute(map, timing, pos, heading, |v, _| {
-                if v == home { Flow::Stop } else { Flow::Continue }
+                if v == home {
+                    Flow::Stop
+                } else {
+                    Flow::Continue
+                }
             })
             .is_ok()
             && field.dist_at(home).is_some();
@@ -213,14 +222,24 @@ where
         }
         let edge = timing.edge.max(1);
         let wall = edge
-            .saturating_mul(u32::try_from(bounds.area()).unwrap_or(u32::MAX).saturating_add(1))
+            .saturating_mul(
+                u32::try_from(bounds.area())
+                    .unwrap_or(u32::MAX)
+                    .saturating_add(1),
+            )
             .min(crate::path::MAX_DIST / 32);
         let round = field
             .compute_weighted(
                 map,
                 pos,
                 |v| if settled.contains(&v) { wall } else { edge },
-                |v, _| if v == home { Flow::Stop } else { Flow::Continue },
+                |v, _| {
+                    if v == home {
+                        Flow::Stop
+                    } else {
+                        Flow::Continue
+                    }
+                },
             )
             .is_ok()
             && field.dist_at(home).is_some_and(|d| d < wall);
@@ -371,7 +390,8 @@ where
         }
         let since = *self.gated_since.get_or_insert(now);
         let edge_ms = timing.edge.saturating_mul(TICK_MS);
-        let patience = edge_ms.saturating_mul(40) + super::decide::draw(self.id, pos, since, edge_ms.saturating_mul(20));
+        let patience = edge_ms.saturating_mul(40)
+            + super::decide::draw(self.id, pos, since, edge_ms.saturating_mul(20));
         if !gated || now.wrapping_sub(since) > patience {
             if !gated {
                 self.gated_since = None;

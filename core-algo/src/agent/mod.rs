@@ -352,7 +352,8 @@ where
             // not come back together.
             let edge_ms = self.config.timing.edge.saturating_mul(TICK_MS);
             let edges = 6 + 4 * u32::from(self.id.0 % 8);
-            let wait = edge_ms.saturating_mul(edges) + self.jitter(edge_ms.saturating_mul(8), self.now);
+            let wait =
+                edge_ms.saturating_mul(edges) + self.jitter(edge_ms.saturating_mul(8), self.now);
             self.yielding = true;
             self.motion = Motion::Waiting {
                 until: self.now.wrapping_add(wait),

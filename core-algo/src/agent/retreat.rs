@@ -30,7 +30,10 @@ where
     /// was found.
     pub(super) fn plan_way_of(&mut self, b: usize, chained: bool) -> Option<(Peer, usize)> {
         let q = self.peers.get(b).copied()?;
-        let goal = self.map.bounds().index(way_end(&q, chained, self.map.is_complete()))?;
+        let goal = self
+            .map
+            .bounds()
+            .index(way_end(&q, chained, self.map.is_complete()))?;
         let field = self.fields.first_mut()?;
         let reached = field
             .compute(&self.map, self.config.timing, q.pos, q.heading, |v, _| {
@@ -184,14 +187,11 @@ where
             3
         };
         let edge_ms = timing.edge.saturating_mul(TICK_MS);
-        let patience = edge_ms.saturating_mul(edges) + self.jitter(edge_ms.saturating_mul(edges / 2), r.since);
-        let over = self
-            .peers
-            .get(r.bumper)
-            .is_none_or(|q| {
-                !q.known || q.failed || (q.pos == q.home && !(r.chained && q.target.is_some()))
-            })
-            || self.now.wrapping_sub(r.since) > patience
+        let patience =
+            edge_ms.saturating_mul(edges) + self.jitter(edge_ms.saturating_mul(edges / 2), r.since);
+        let over = self.peers.get(r.bumper).is_none_or(|q| {
+            !q.known || q.failed || (q.pos == q.home && !(r.chained && q.target.is_some()))
+        }) || self.now.wrapping_sub(r.since) > patience
             || !self.map.is_complete()
             || self.may_follow() && self.bumper_clear(r);
         let bounds = self.map.bounds();
