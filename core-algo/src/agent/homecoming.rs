@@ -178,10 +178,11 @@ where
         self.depth = super::fill_order::fill_ranks(map, &depths);
     }
 
-    /// A way home through a team mate that stands at its home runs into
-    /// it: it can only make way by leaving home, and in packed homes it
-    /// has nowhere to go (the two then dance for ever). Takes the cheapest
-    /// way round every such team mate instead, if there is one: a
+    /// A way home through a team mate that stands at a home filling before
+    /// ours runs into it: it can only make way by leaving home, and in
+    /// packed homes it has nowhere to go (the two then dance for ever).
+    /// Takes the cheapest way round every such team mate instead, if there
+    /// is one: a
     /// node-weighted field where entering a settled home costs more than
     /// any way round (turns are left out of that field; they only pick
     /// the first move, and the next decision plans again).

@@ -143,8 +143,8 @@ pub struct Agent<M, F, S, const K: usize> {
     /// A digest of where the team mates we wait for stand and who is home:
     /// waiting lasts while it changes (see `keep_out_of_the_way`).
     gated_progress: u32,
-    /// Depth of every robot's home (see `keep_out_of_the_way`), computed
-    /// once the map is complete.
+    /// Fill rank of every robot's home: the larger fills first (see
+    /// `fill_order`), computed once the map is complete.
     depth: [u64; MAX_ROBOTS],
     depth_known: bool,
     /// Making way for a team mate whose home fills first: where to, whom

@@ -47,9 +47,9 @@ where
         (reached && field.dist_at(goal).is_some()).then_some((q, goal))
     }
 
-    /// Plans a retreat out of team mate `b`'s way (to its target, else
-    /// home) and starts it (the next decision drives it); whether there is
-    /// somewhere to go.
+    /// Plans a retreat out of team mate `b`'s way (see `plan_way_of`) and
+    /// starts it (the next decision drives it); whether there is somewhere
+    /// to go.
     pub(super) fn plan_retreat(&mut self, b: usize, chained: bool) -> bool {
         if !self.peers.get(b).is_some_and(|q| q.known && !q.failed) {
             return false;
