@@ -3,9 +3,9 @@
 //! robot already at home would otherwise plug the only way in for good.
 //! The order is built backwards: the home that fills last is one still
 //! reachable from the open field with every other home taken; among those,
-//! the shallowest. Each home has such an order whenever any order works
-//! (taking a home out of a working order leaves the rest working), and
-//! every robot computes the same one from the complete map and the homes.
+//! the shallowest. This finds a working order whenever one exists (taking
+//! a home out of a working order leaves the rest working), and every robot
+//! computes the same one from the complete map and the homes.
 
 use super::*;
 
