@@ -251,7 +251,7 @@ mod tests {
             let ranks = fill_ranks(&m, &homes);
             let mut ours: std::vec::Vec<(u64, Pos)> =
                 homes.iter().map(|&(i, p, _)| (ranks[i], p)).collect();
-            ours.sort_by(|a, b| b.0.cmp(&a.0));
+            ours.sort_by_key(|b| core::cmp::Reverse(b.0));
             let ours: std::vec::Vec<Pos> = ours.into_iter().map(|(_, p)| p).collect();
             // Ranks are distinct and given to every home.
             for (k, &(i, _, _)) in homes.iter().enumerate() {
