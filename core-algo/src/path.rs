@@ -479,6 +479,27 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         result
     }
 
+    /// [`DistField::compute`] grown only until node `goal` is reached (or
+    /// the reachable graph is exhausted): most questions about one way (a
+    /// team mate's way home, ours to a spot) need no more of the field.
+    /// Whether `goal` was reached: [`DistField::dist_at`].
+    pub fn compute_to<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        start: Pos,
+        heading: Heading,
+        goal: usize,
+    ) -> Result<(), PlanError> {
+        self.compute(map, timing, start, heading, |v, _| {
+            if v == goal {
+                Flow::Stop
+            } else {
+                Flow::Continue
+            }
+        })
+    }
+
     /// Whether this field is a search by [`DistField::compute`] from the
     /// pose (`start`, `heading`) over `map` as it is now: then it holds the
     /// same shortest-path tree a new search would grow (the search order is
@@ -670,9 +691,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                 let Some(g) = map.bounds().index(goal) else {
                     return Ok(None);
                 };
-                self.compute(map, timing, start, heading, |i, _| {
-                    if i == g { Flow::Stop } else { Flow::Continue }
-                })?;
+                self.compute_to(map, timing, start, heading, g)?;
                 Ok(self.dist_at(g))
             }
             other => other,
@@ -1044,7 +1063,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     }
 
     /// Sets or clears the mark on every node driven into on the cheapest
-    /// path to `target`; whether the walk reached the start.
+    /// path to `target`; whether the walk reached the start. Its own loop
+    /// over [`DistField::step_back`], not `walk_back_while`: it writes the
+    /// cells it walks, which that borrow-shared walk cannot.
     fn set_way_bits<M: AsRef<[Block]> + AsMut<[Block]>>(
         &mut self,
         map: &KnownMap<M>,

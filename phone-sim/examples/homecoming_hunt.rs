@@ -7,6 +7,7 @@
 
 use phone_sim::field::generate::Kind;
 use phone_sim::sim::robot::BoxedStrategy;
+use phone_sim::sim::timeline::Timeline;
 use phone_sim::sim::{SimConfig, Simulation};
 
 fn main() {
@@ -48,28 +49,9 @@ fn main() {
         // `HUNT_TRACE=1` prints every run's timeline (as `examples/timeline.rs`
         // does), for reading one case: run it with RUNS 1 and its seed.
         let o = if std::env::var_os("HUNT_TRACE").is_some() {
-            let n = sim.bodies().bodies().len();
-            let mut last: Vec<Option<String>> = vec![None; n];
+            let mut timeline = Timeline::new(&sim);
             while sim.step() {
-                for (i, (b, f)) in sim.bodies().bodies().iter().zip(sim.firmware()).enumerate() {
-                    let a = f.agent();
-                    let line = format!(
-                        "({:>2},{:>2}) {:?} {:?} target {:?}{}{}",
-                        b.pos.x,
-                        b.pos.y,
-                        b.heading,
-                        a.mode(),
-                        a.target().map(|p| (p.x, p.y)),
-                        if b.is_idle() { " standing" } else { "" },
-                        a.retreating()
-                            .map(|(p, id)| format!(" retreat to ({},{}) for r{}", p.x, p.y, id.0))
-                            .unwrap_or_default()
-                    );
-                    if last[i].as_deref() != Some(line.as_str()) {
-                        println!("{:>9.2} r{i} {line}", f64::from(sim.now()) / 1000.0);
-                        last[i] = Some(line);
-                    }
-                }
+                timeline.print_changes(&sim);
             }
             sim.outcome()
         } else {

@@ -9,6 +9,7 @@
 
 use clap::Parser;
 use phone_sim::explore_cmd::{ExploreArgs, build};
+use phone_sim::sim::timeline::Timeline;
 
 #[derive(Parser)]
 struct Args {
@@ -23,28 +24,9 @@ fn main() {
         None => phone_sim::cli::demo_field().expect("the demo field"),
     };
     let mut sim = build(&field, &a).expect("a simulation");
-    let robots = sim.bodies().bodies().len();
-    let mut last: Vec<Option<String>> = vec![None; robots];
+    let mut timeline = Timeline::new(&sim);
     while sim.step() {
-        for (i, (b, f)) in sim.bodies().bodies().iter().zip(sim.firmware()).enumerate() {
-            let a = f.agent();
-            let line = format!(
-                "({:>2},{:>2}) {:?} {:?} target {:?}{}{}",
-                b.pos.x,
-                b.pos.y,
-                b.heading,
-                a.mode(),
-                a.target().map(|p| (p.x, p.y)),
-                if b.is_idle() { " standing" } else { "" },
-                a.retreating()
-                    .map(|(p, id)| format!(" retreat to ({},{}) for r{}", p.x, p.y, id.0))
-                    .unwrap_or_default()
-            );
-            if last[i].as_deref() != Some(line.as_str()) {
-                println!("{:>9.2} r{i} {line}", f64::from(sim.now()) / 1000.0);
-                last[i] = Some(line);
-            }
-        }
+        timeline.print_changes(&sim);
     }
     let o = sim.outcome();
     println!(

@@ -208,15 +208,7 @@ where
         let Some(field) = self.fields.first_mut().filter(|_| !settled.is_empty()) else {
             return decision;
         };
-        let planned = field
-            .compute(map, timing, pos, heading, |v, _| {
-                if v == home {
-                    Flow::Stop
-                } else {
-                    Flow::Continue
-                }
-            })
-            .is_ok()
+        let planned = field.compute_to(map, timing, pos, heading, home).is_ok()
             && field.dist_at(home).is_some();
         if !planned || !settled.iter().any(|&s| field.path_passes(map, home, s)) {
             return decision;
@@ -337,17 +329,13 @@ where
                     // run on a 128² field).
                     let rooted = rooted
                         || field
-                            .compute(map, timing, p.home, Heading::North, |v, _| {
-                                if v == at { Flow::Stop } else { Flow::Continue }
-                            })
+                            .compute_to(map, timing, p.home, Heading::North, at)
                             .is_ok();
                     if rooted && field.dist_at(at).is_some_and(|d| d > near) {
                         Ok(at)
                     } else {
                         field
-                            .compute(map, timing, p.pos, p.heading, |v, _| {
-                                if v == h { Flow::Stop } else { Flow::Continue }
-                            })
+                            .compute_to(map, timing, p.pos, p.heading, h)
                             .map(|()| h)
                     }
                 };
@@ -467,9 +455,7 @@ where
             };
             let computed = match (found, spot) {
                 (Ok(()), Some(v)) if bounds.index(pos) != Some(v) => {
-                    mine.compute(map, timing, pos, heading, |u, _| {
-                        if u == v { Flow::Stop } else { Flow::Continue }
-                    })
+                    mine.compute_to(map, timing, pos, heading, v)
                 }
                 (Ok(()), Some(_)) => return Decision::STAY,
                 (other, _) => other,

@@ -36,13 +36,7 @@ where
             .index(way_end(&q, chained, self.map.is_complete()))?;
         let field = self.fields.first_mut()?;
         let reached = field
-            .compute(&self.map, self.config.timing, q.pos, q.heading, |v, _| {
-                if v == goal {
-                    Flow::Stop
-                } else {
-                    Flow::Continue
-                }
-            })
+            .compute_to(&self.map, self.config.timing, q.pos, q.heading, goal)
             .is_ok();
         (reached && field.dist_at(goal).is_some()).then_some((q, goal))
     }
@@ -199,15 +193,7 @@ where
         let (pos, heading, map) = (self.pos, self.heading, &self.map);
         let next = match (over, spot, self.fields.get_mut(1)) {
             (false, Some(spot), Some(field)) if r.spot != pos => {
-                let reached = field
-                    .compute(map, timing, pos, heading, |v, _| {
-                        if v == spot {
-                            Flow::Stop
-                        } else {
-                            Flow::Continue
-                        }
-                    })
-                    .is_ok();
+                let reached = field.compute_to(map, timing, pos, heading, spot).is_ok();
                 reached.then(|| field.first_heading(map, spot)).flatten()
             }
             _ => None,
@@ -267,15 +253,7 @@ where
         else {
             return false;
         };
-        let planned = mine
-            .compute(map, timing, pos, heading, |v, _| {
-                if v == home {
-                    Flow::Stop
-                } else {
-                    Flow::Continue
-                }
-            })
-            .is_ok()
+        let planned = mine.compute_to(map, timing, pos, heading, home).is_ok()
             && mine.dist_at(home).is_some();
         if !planned {
             return false;

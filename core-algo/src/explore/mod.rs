@@ -209,9 +209,7 @@ where
     let Some(h) = ctx.map.bounds().index(me.home) else {
         return Ok(Decision::STAY);
     };
-    field.compute(ctx.map, ctx.timing, me.pos, me.heading, |i, _| {
-        if i == h { Flow::Stop } else { Flow::Continue }
-    })?;
+    field.compute_to(ctx.map, ctx.timing, me.pos, me.heading, h)?;
     Ok(match field.first_heading(ctx.map, h) {
         Some(next) => Decision {
             goal: Goal::Home,

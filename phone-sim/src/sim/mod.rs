@@ -16,6 +16,7 @@ pub mod body;
 pub mod channel;
 pub mod localize;
 pub mod robot;
+pub mod timeline;
 
 use crate::environment::Environment;
 use crate::field::Field;
