@@ -2,7 +2,9 @@
 //! it keeps running into) drives to the nearest node off that team mate's
 //! way and holds there until the team mate no longer needs the way: it is
 //! home, has failed, has stood still for a while, or is ahead of us on our
-//! own way home, so that we can follow it.
+//! own way home, so that we can follow it. Shut in behind that team mate
+//! (a dead end, a line of homes), it pushes through it instead, to a spot
+//! past a node where the team mate can step aside.
 
 use super::*;
 
@@ -70,8 +72,9 @@ where
     /// way, nobody else's home, not taken, and reached without driving
     /// through the bumper; and the node where our way there leaves the
     /// bumper's way (where we stand, at the latest; `None` if its way does
-    /// not come through here). Plans in the second
-    /// field; `None` with a single field or if there is no such node.
+    /// not come through here). If every such node lies behind the bumper,
+    /// a push spot through it (see the end). Plans in the second field;
+    /// `None` with a single field or if there is no such node.
     fn retreat_spot(&mut self, goal: usize, from: Pos) -> Option<(Pos, Option<Pos>)> {
         let bounds = self.map.bounds();
         let blocked = bounds.index(from)?;
@@ -125,7 +128,10 @@ where
             };
             first = false;
             let Some(v) = found.take().filter(|_| result.is_ok()) else {
-                return through_mate;
+                if through_mate.is_some() || result.is_err() {
+                    return through_mate;
+                }
+                break;
             };
             if !mine.path_passes(map, v, blocked) {
                 // Only a bumper whose way comes through here can be seen to
@@ -156,6 +162,53 @@ where
                     return through_mate;
                 }
                 looks_left -= 1;
+            }
+        }
+        // Every spot lies behind the bumper (we stand in a dead end, or
+        // in a line of homes, beyond it): push. Drive through it to the
+        // nearest free spot past a node where it can step aside off our
+        // way; bumped on that way, it retreats off it in turn (see
+        // `on_bumped`), and once we are past it, it can get home.
+        let mut first = true;
+        loop {
+            let mut reached = |v: usize, d: Ticks| {
+                if d > 0 && free(v) {
+                    found = Some(v);
+                    Flow::Stop
+                } else {
+                    Flow::Continue
+                }
+            };
+            let result = if first {
+                mine.compute(map, timing, self.pos, self.heading, &mut reached)
+            } else {
+                mine.resume(map, &mut reached)
+            };
+            first = false;
+            let v = found.take().filter(|_| result.is_ok())?;
+            let here = bounds.index(self.pos);
+            let aside = |u: usize| {
+                map.known_arms(bounds.pos(u)).is_some_and(|arms| {
+                    arms.iter().any(|h| {
+                        crate::path::neighbour_index(bounds, u, h).is_some_and(|w| {
+                            let p = bounds.pos(w);
+                            Some(w) != here
+                                && !mine.path_passes(map, v, w)
+                                && !peers.iter().enumerate().any(|(i, q)| {
+                                    i != me && q.known && !q.failed && (q.home == p || q.pos == p)
+                                })
+                        })
+                    })
+                })
+            };
+            // The nodes from the bumper on, up to the spot (excluded).
+            let mut room = false;
+            mine.first_back(map, v, |u| {
+                room |= u != v && aside(u);
+                room || u == blocked
+            });
+            if room {
+                return Some((bounds.pos(v), None));
             }
         }
     }
