@@ -71,11 +71,12 @@ where
                 return Ok(());
             }
         }
-        // Otherwise step off the bumper's way (to its target, else home):
-        // straight on along it, we would only be bumped again, and pushed
-        // along it into the packed homes.
+        // Otherwise step off the bumper's way (to its target, else home;
+        // a retreating bumper's to its spot): straight on along it, we
+        // would only be bumped again, and pushed along it into the packed
+        // homes.
         let way = first
-            .and_then(|b| self.plan_way_of(b, false))
+            .and_then(|b| self.plan_way_of(b, self.retreating_peer(b)))
             .map(|(_, goal)| goal);
         let (map, fields, peers, me) = (&self.map, &self.fields, &self.peers, self.id.index());
         let on_way = |v: Option<usize>| match (way, v, fields.first()) {
