@@ -351,3 +351,101 @@ fn way_end(q: &Peer, chained: bool, complete: bool) -> Pos {
         _ => q.home,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::explore::NearestFrontier;
+    use crate::map::{Bounds, blocks_for};
+    use crate::path::min_cells;
+    use std::vec;
+    use std::vec::Vec as StdVec;
+
+    type ThreeFields = Agent<StdVec<Block>, StdVec<PlanCell>, NearestFrontier, 3>;
+
+    /// Robot 1 standing at (0, 0), the dead end of a corridor that runs
+    /// north to (0, 3) with a side arm at (0, 2) to (1, 2); robot 0 stands
+    /// at (0, 1) and its home is (0, 0): the two are swapped. `homes`
+    /// lists more team mates' homes (they stand at home).
+    fn swapped(homes: &[Pos]) -> ThreeFields {
+        let bounds = Bounds::new(Pos::new(0, 0), 2, 4);
+        let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(bounds.area())], bounds).unwrap();
+        let nodes = [
+            (0, 0, Arms::NONE.with(Heading::North)),
+            (0, 1, Arms::NONE.with(Heading::North).with(Heading::South)),
+            (
+                0,
+                2,
+                Arms::NONE
+                    .with(Heading::North)
+                    .with(Heading::South)
+                    .with(Heading::East),
+            ),
+            (1, 2, Arms::NONE.with(Heading::West)),
+            (0, 3, Arms::NONE.with(Heading::South)),
+        ];
+        for (x, y, arms) in nodes {
+            map.visit(Pos::new(x, y), arms, RobotId(0)).unwrap();
+        }
+        assert!(map.is_complete());
+        let fields = core::array::from_fn(|_| {
+            DistField::new(vec![PlanCell::EMPTY; min_cells(bounds.area())])
+        });
+        let mut a = Agent::new(
+            RobotId(1),
+            map,
+            fields,
+            NearestFrontier,
+            AgentConfig::default(),
+        );
+        a.pos = Pos::new(0, 0);
+        a.heading = Heading::North;
+        a.home = Pos::new(0, 1);
+        a.mode = Mode::Return;
+        let mate = |pos, home| Peer {
+            known: true,
+            pos,
+            home,
+            heading: Heading::South,
+            ..NO_PEER
+        };
+        a.peers[0] = mate(Pos::new(0, 1), Pos::new(0, 0));
+        for (i, &home) in homes.iter().enumerate() {
+            a.peers[i + 2] = mate(home, home);
+        }
+        a
+    }
+
+    /// Shut in behind the team mate it must make way for, a robot pushes
+    /// through it: past the first node where the team mate can step aside,
+    /// (0, 2), to (0, 3), not to (0, 2) itself (the team mate, with
+    /// nowhere to go, would only stand in our way again).
+    #[test]
+    fn shut_in_behind_the_bumper_pushes_past_a_node_with_room_aside() {
+        let mut a = swapped(&[]);
+        let goal = a.map.bounds().index(Pos::new(0, 0)).unwrap();
+        assert_eq!(
+            a.retreat_spot(goal, Pos::new(0, 1)),
+            Some((Pos::new(0, 3), None))
+        );
+        assert!(a.plan_retreat(0, false));
+        let mut out = Commands::new();
+        a.decide(&mut out);
+        assert_eq!(
+            out.first(),
+            Some(&Command::Announce {
+                target: Some(Pos::new(0, 3))
+            })
+        );
+        assert!(out.contains(&Command::Move), "{out:?}");
+    }
+
+    /// With the side arm someone's home there is no room aside anywhere:
+    /// no push (it would only squeeze the two together).
+    #[test]
+    fn no_push_without_room_for_the_bumper_to_step_aside() {
+        let mut a = swapped(&[Pos::new(1, 2)]);
+        let goal = a.map.bounds().index(Pos::new(0, 0)).unwrap();
+        assert_eq!(a.retreat_spot(goal, Pos::new(0, 1)), None);
+    }
+}
