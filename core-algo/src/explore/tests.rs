@@ -195,3 +195,43 @@ fn tempo_explores_away_from_home_first() {
     // wherever home is.
     assert_eq!(choose(Pos::new(1, 0), 0), choose(Pos::new(5, 0), 0));
 }
+
+/// Tempo's near trailing: a robot left without a share (two frontier nodes,
+/// each taken by a nearer team mate) drives to its nearest frontier node
+/// when it is at most 8 edges away, so that it is there if a share
+/// appears; in a team larger than `trail_team` it waits where it stands.
+#[test]
+fn tempo_trails_a_near_frontier_only_in_a_small_team() {
+    let b = Bounds::new(Pos::new(0, 0), 7, 1);
+    let mut m = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).unwrap();
+    let ew = Arms::NONE.with(Heading::East).with(Heading::West);
+    for x in 1..=5 {
+        m.visit(Pos::new(x, 0), ew, RobotId(0)).unwrap();
+    }
+    let at = |x| RobotView {
+        pos: Pos::new(x, 0),
+        heading: Heading::North,
+        eta: 0,
+        home: Pos::new(x, 0),
+        target: None,
+    };
+    let robots = [at(3), at(1), at(5)];
+    let ctx = Context {
+        map: &m,
+        timing: Timing::DEFAULT,
+        robots: &robots,
+        me: 0,
+    };
+    let mut fields: [_; 3] =
+        core::array::from_fn(|_| DistField::new(vec![PlanCell::EMPTY; min_cells(b.area())]));
+    let trails = Tempo::default().decide(&ctx, &mut fields).unwrap();
+    assert!(
+        matches!(trails.goal, Goal::Frontier(p) if p == Pos::new(0, 0) || p == Pos::new(6, 0)),
+        "{trails:?}"
+    );
+    let mut big_team = Tempo::default();
+    big_team.config.trail_team = 2;
+    let waits = big_team.decide(&ctx, &mut fields).unwrap();
+    assert_eq!(waits.goal, Goal::Wait);
+    assert_eq!(waits.next, None);
+}
