@@ -562,8 +562,11 @@ where
         // Yielded: come back early once everyone is in, but not while a
         // team mate standing at home is on its way to a retreat spot (it
         // may be the one we made way for, pushing through).
-        let settled = self.peers_home() && (0..self.peers.len()).all(|i| !self.retreating_peer(i));
-        if self.yielding && matches!(self.motion, Motion::Waiting { .. }) && settled {
+        if self.yielding
+            && matches!(self.motion, Motion::Waiting { .. })
+            && self.peers_home()
+            && (0..self.peers.len()).all(|i| !self.retreating_peer(i))
+        {
             self.motion = Motion::Waiting { until: now };
         }
         match self.motion {

@@ -16,6 +16,10 @@ const FOLLOW_FROM_EDGES: u32 = 8;
 /// once it has found one that is (see `retreat_spot`).
 const SPOTS_PAST_A_MATE: u32 = 16;
 
+/// How many push spots (see `retreat_spot`) a retreat looks at for one
+/// past a node with room aside: bounds the walks on a large field.
+const PUSH_SPOTS: u32 = 1024;
+
 /// A retreat ends when the team mate it made way for has not moved for this
 /// many edges of time: it may be waiting for us (it let us go first).
 const RETREAT_PATIENCE_EDGES: u32 = 20;
@@ -169,8 +173,9 @@ where
         // nearest free spot past a node where it can step aside off our
         // way; bumped on that way, it retreats off it in turn (see
         // `on_bumped`), and once we are past it, it can get home.
+        let here = bounds.index(self.pos);
         let mut first = true;
-        loop {
+        for _ in 0..PUSH_SPOTS {
             let mut reached = |v: usize, d: Ticks| {
                 if d > 0 && free(v) {
                     found = Some(v);
@@ -186,7 +191,6 @@ where
             };
             first = false;
             let v = found.take().filter(|_| result.is_ok())?;
-            let here = bounds.index(self.pos);
             let aside = |u: usize| {
                 map.known_arms(bounds.pos(u)).is_some_and(|arms| {
                     arms.iter().any(|h| {
@@ -211,6 +215,7 @@ where
                 return Some((bounds.pos(v), None));
             }
         }
+        None
     }
 
     /// Drives to the retreat spot and holds there until the team mate that
