@@ -500,6 +500,38 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         })
     }
 
+    /// The next node, nearest first, for which `wanted(node, dist)` holds:
+    /// the search from the pose (`start`, `heading`) begins anew if
+    /// `restart`, else it resumes where the last call stopped (over the
+    /// same map). `None` once the reachable graph is exhausted. For callers
+    /// that must check each candidate against the field itself (does its
+    /// way pass a team mate?), which the search's callback cannot: find,
+    /// check, go on.
+    pub fn next_where<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        (start, heading): (Pos, Heading),
+        restart: bool,
+        mut wanted: impl FnMut(usize, Ticks) -> bool,
+    ) -> Result<Option<usize>, PlanError> {
+        let mut found = None;
+        let reached = |v: usize, d: Ticks| {
+            if wanted(v, d) {
+                found = Some(v);
+                Flow::Stop
+            } else {
+                Flow::Continue
+            }
+        };
+        if restart {
+            self.compute(map, timing, start, heading, reached)?;
+        } else {
+            self.resume(map, reached)?;
+        }
+        Ok(found)
+    }
+
     /// Whether this field is a search by [`DistField::compute`] from the
     /// pose (`start`, `heading`) over `map` as it is now: then it holds the
     /// same shortest-path tree a new search would grow (the search order is

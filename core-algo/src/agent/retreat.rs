@@ -106,7 +106,7 @@ where
                     .any(|(i, q)| i != me && q.known && !q.failed && (q.home == p || q.pos == p))
                 && !homeward.as_mut().is_some_and(|f| f.passes(map, v, goal))
         };
-        let mut found = None;
+        let pose = (self.pos, self.heading);
         let mut first = true;
         // The nearest spot whose way runs through a team mate standing
         // elsewhere: taken only if no spot is free of them (the team mate
@@ -117,25 +117,12 @@ where
         // field, each spot's way against each team mate, took minutes.
         let mut looks_left = SPOTS_PAST_A_MATE;
         loop {
-            let mut reached = |v: usize, d: Ticks| {
-                if d > 0 && free(v) {
-                    found = Some(v);
-                    Flow::Stop
-                } else {
-                    Flow::Continue
-                }
-            };
-            let result = if first {
-                mine.compute(map, timing, self.pos, self.heading, &mut reached)
-            } else {
-                mine.resume(map, &mut reached)
-            };
+            let next = mine.next_where(map, timing, pose, first, |v, d| d > 0 && free(v));
             first = false;
-            let Some(v) = found.take().filter(|_| result.is_ok()) else {
-                if through_mate.is_some() || result.is_err() {
-                    return through_mate;
-                }
-                break;
+            let v = match next {
+                Ok(Some(v)) => v,
+                Ok(None) if through_mate.is_none() => break,
+                _ => return through_mate,
             };
             if !mine.path_passes(map, v, blocked) {
                 // Only a bumper whose way comes through here can be seen to
@@ -176,21 +163,9 @@ where
         let here = bounds.index(self.pos);
         let mut first = true;
         for _ in 0..PUSH_SPOTS {
-            let mut reached = |v: usize, d: Ticks| {
-                if d > 0 && free(v) {
-                    found = Some(v);
-                    Flow::Stop
-                } else {
-                    Flow::Continue
-                }
-            };
-            let result = if first {
-                mine.compute(map, timing, self.pos, self.heading, &mut reached)
-            } else {
-                mine.resume(map, &mut reached)
-            };
+            let next = mine.next_where(map, timing, pose, first, |v, d| d > 0 && free(v));
             first = false;
-            let v = found.take().filter(|_| result.is_ok())?;
+            let v = next.ok().flatten()?;
             let aside = |u: usize| {
                 map.known_arms(bounds.pos(u)).is_some_and(|arms| {
                     arms.iter().any(|h| {
