@@ -96,14 +96,18 @@ where
         });
         theirs.mark_way(map, goal);
         let theirs = &*theirs;
-        let mut free = |v: usize| {
+        // Another team mate's home or place: never a spot, nor room aside.
+        let claimed = |v: usize| {
             let p = bounds.pos(v);
+            peers
+                .iter()
+                .enumerate()
+                .any(|(i, q)| i != me && q.known && !q.failed && (q.home == p || q.pos == p))
+        };
+        let mut free = |v: usize| {
             v != blocked
                 && !theirs.path_passes(map, goal, v)
-                && !peers
-                    .iter()
-                    .enumerate()
-                    .any(|(i, q)| i != me && q.known && !q.failed && (q.home == p || q.pos == p))
+                && !claimed(v)
                 && !homeward.as_mut().is_some_and(|f| f.passes(map, v, goal))
         };
         let pose = (self.pos, self.heading);
@@ -170,12 +174,7 @@ where
                 map.known_arms(bounds.pos(u)).is_some_and(|arms| {
                     arms.iter().any(|h| {
                         crate::path::neighbour_index(bounds, u, h).is_some_and(|w| {
-                            let p = bounds.pos(w);
-                            Some(w) != here
-                                && !mine.path_passes(map, v, w)
-                                && !peers.iter().enumerate().any(|(i, q)| {
-                                    i != me && q.known && !q.failed && (q.home == p || q.pos == p)
-                                })
+                            Some(w) != here && !mine.path_passes(map, v, w) && !claimed(w)
                         })
                     })
                 })

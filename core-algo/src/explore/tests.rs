@@ -148,19 +148,25 @@ fn seed_explorer_prefers_unclaimed_ground_and_ties_go_south_west() {
     assert_eq!(d.goal, Goal::Frontier(Pos::new(2, 0)));
 }
 
-/// Tempo's home pull: of two frontier nodes equally far from the robot,
-/// the one farther from its home goes first; move the home and the choice
-/// follows.
-#[test]
-fn tempo_explores_away_from_home_first() {
-    // A corridor x = 0..=6 at y = 0; x = 1..=5 visited, so the frontier is
-    // (0, 0) and (6, 0), three edges and one quarter turn from (3, 0).
+/// A corridor x = 0..=6 at y = 0 with x = 1..=5 visited: the frontier is
+/// (0, 0) and (6, 0).
+fn corridor() -> (Bounds, KnownMap<Vec<Block>>) {
     let b = Bounds::new(Pos::new(0, 0), 7, 1);
     let mut m = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).unwrap();
     let ew = Arms::NONE.with(Heading::East).with(Heading::West);
     for x in 1..=5 {
         m.visit(Pos::new(x, 0), ew, RobotId(0)).unwrap();
     }
+    (b, m)
+}
+
+/// Tempo's home pull: of two frontier nodes equally far from the robot,
+/// the one farther from its home goes first; move the home and the choice
+/// follows.
+#[test]
+fn tempo_explores_away_from_home_first() {
+    // Three edges and one quarter turn from (3, 0) to either end.
+    let (b, m) = corridor();
     let choose = |home: Pos, pull: u32| {
         let robots = [RobotView {
             pos: Pos::new(3, 0),
@@ -202,12 +208,7 @@ fn tempo_explores_away_from_home_first() {
 /// appears; in a team larger than `trail_team` it waits where it stands.
 #[test]
 fn tempo_trails_a_near_frontier_only_in_a_small_team() {
-    let b = Bounds::new(Pos::new(0, 0), 7, 1);
-    let mut m = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).unwrap();
-    let ew = Arms::NONE.with(Heading::East).with(Heading::West);
-    for x in 1..=5 {
-        m.visit(Pos::new(x, 0), ew, RobotId(0)).unwrap();
-    }
+    let (b, m) = corridor();
     let at = |x| RobotView {
         pos: Pos::new(x, 0),
         heading: Heading::North,
