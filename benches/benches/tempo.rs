@@ -1,0 +1,67 @@
+//! `tempo/decide16`: one robot's full tempo decision (the whole team's
+//! assignment) in a team of 16, on open and maze fields of 64² and 256²
+//! nodes, about half known, with more frontier nodes than robots: the cost
+//! that dominates large-team runs until the last frontier nodes.
+use core_algo::explore::{Context, RobotView, Strategy, Tempo};
+use core_algo::geometry::Heading;
+use core_algo::map::{Block, KnownMap, blocks_for};
+use core_algo::path::{DistField, PlanCell, min_cells};
+use core_algo::team::RobotId;
+use core_algo::timing::Timing;
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use phone_sim::field::{Field, generate};
+use std::hint::black_box;
+
+/// Half of `f` known, visited in BFS order from its first start; 16 robots
+/// spread over the known half, all with that start as home.
+fn case(f: &Field) -> (KnownMap<Vec<Block>>, Vec<RobotView>) {
+    let b = f.bounds();
+    let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).expect("capacity");
+    let start = f.starts()[0].pos;
+    let order = f.bfs_order(start);
+    let half = order.len() / 2;
+    for p in &order[..half] {
+        let _ = map.visit(*p, f.arms(*p).unwrap_or_default(), RobotId(0));
+    }
+    let robots = (0..16)
+        .map(|j| RobotView {
+            pos: order[half - 1 - (half - 1) * j / 16],
+            heading: Heading::from_index((j % 4) as u8),
+            eta: 0,
+            home: start,
+            target: None,
+        })
+        .collect();
+    (map, robots)
+}
+
+fn bench_tempo(c: &mut Criterion) {
+    let mut g = c.benchmark_group("tempo");
+    g.sample_size(10);
+    for n in [64u16, 256] {
+        for (kind, f) in [
+            ("open", generate::open(n, n, 1)),
+            ("maze", generate::maze(n, n, 1)),
+        ] {
+            let (map, robots) = case(&f);
+            let area = map.bounds().area();
+            let mut fields: Vec<_> = (0..16)
+                .map(|_| DistField::new(vec![PlanCell::EMPTY; min_cells(area)]))
+                .collect();
+            let ctx = Context {
+                map: &map,
+                timing: Timing::DEFAULT,
+                robots: &robots,
+                me: 0,
+            };
+            let mut tempo = Tempo::default();
+            g.bench_function(BenchmarkId::new("decide16", format!("{kind}-{n}")), |bch| {
+                bch.iter(|| black_box(tempo.decide(&ctx, &mut fields).expect("decide")))
+            });
+        }
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench_tempo);
+criterion_main!(benches);
