@@ -1,7 +1,7 @@
 //! `tempo/decide16`: one robot's full tempo decision (the whole team's
 //! assignment) in a team of 16, on open and maze fields of 64² and 256²
-//! nodes, about half known, with more frontier nodes than robots: the cost
-//! that dominates large-team runs until the last frontier nodes.
+//! nodes, about half known: the cost that dominates large-team runs
+//! (docs/results/performance.md, stop 18).
 use core_algo::explore::{Context, RobotView, Strategy, Tempo};
 use core_algo::geometry::Heading;
 use core_algo::map::{Block, KnownMap, blocks_for};
