@@ -2,7 +2,7 @@
 //! assignment) in a team of 16, on open and maze fields of 64² and 256²
 //! nodes, about half known: the cost that dominates large-team runs
 //! (docs/results/performance.md, stop 18).
-use core_algo::explore::{Context, RobotView, Strategy, Tempo};
+use core_algo::explore::{Context, RobotView, Strategy, Tempo, TempoConfig};
 use core_algo::geometry::Heading;
 use core_algo::map::{Block, KnownMap, blocks_for};
 use core_algo::path::{DistField, PlanCell, min_cells};
@@ -54,10 +54,21 @@ fn bench_tempo(c: &mut Criterion) {
                 robots: &robots,
                 me: 0,
             };
-            let mut tempo = Tempo::default();
-            g.bench_function(BenchmarkId::new("decide16", format!("{kind}-{n}")), |bch| {
-                bch.iter(|| black_box(tempo.decide(&ctx, &mut fields).expect("decide")))
-            });
+            // Without the home pull the floor is exact (cost is travel):
+            // the gap between the two is what the pull's slack costs.
+            let no_pull = TempoConfig {
+                home_pull_pct: 0,
+                ..TempoConfig::default()
+            };
+            for (name, config) in [
+                ("decide16", TempoConfig::default()),
+                ("decide16-no-pull", no_pull),
+            ] {
+                let mut tempo = Tempo { config };
+                g.bench_function(BenchmarkId::new(name, format!("{kind}-{n}")), |bch| {
+                    bch.iter(|| black_box(tempo.decide(&ctx, &mut fields).expect("decide")))
+                });
+            }
         }
     }
     g.finish();
