@@ -10,11 +10,11 @@
 //!   node (64² and 256²).
 //! - `peer/dijkstra_all`: `pathfinding::dijkstra_all` over the same
 //!   (node, heading) state graph with the same costs.
+use conquest_benches::half_known;
 use core_algo::explore::{Context, RobotView, SeedExplorer, Strategy};
 use core_algo::geometry::{Heading, Pos};
-use core_algo::map::{Block, KnownMap, blocks_for};
+use core_algo::map::{Block, KnownMap};
 use core_algo::path::{DistField, Flow, PlanCell, arms_at, min_cells, neighbour_index};
-use core_algo::team::RobotId;
 use core_algo::timing::Timing;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use phone_sim::field::{Field, generate};
@@ -31,13 +31,8 @@ struct Case {
 /// targets on frontier nodes.
 fn case(kind: &str, f: &Field) -> Case {
     let b = f.bounds();
-    let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).expect("capacity");
     let start = f.starts()[0].pos;
-    let order = f.bfs_order(start);
-    let half = order.len() / 2;
-    for p in &order[..half] {
-        let _ = map.visit(*p, f.arms(*p).unwrap_or_default(), RobotId(0));
-    }
+    let (map, order, half) = half_known(f);
     let frontier: Vec<Pos> = map.frontier().collect();
     let me = order[half - 1];
     let mut robots = vec![RobotView {

@@ -2,11 +2,11 @@
 //! assignment) in a team of 16, on open and maze fields of 64² and 256²
 //! nodes, about half known: the cost that dominates large-team runs
 //! (docs/results/performance.md, stop 18).
+use conquest_benches::half_known;
 use core_algo::explore::{Context, RobotView, Strategy, Tempo, TempoConfig};
 use core_algo::geometry::Heading;
-use core_algo::map::{Block, KnownMap, blocks_for};
+use core_algo::map::{Block, KnownMap};
 use core_algo::path::{DistField, PlanCell, min_cells};
-use core_algo::team::RobotId;
 use core_algo::timing::Timing;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use phone_sim::field::{Field, generate};
@@ -15,14 +15,8 @@ use std::hint::black_box;
 /// Half of `f` known, visited in BFS order from its first start; 16 robots
 /// spread over the known half, all with that start as home.
 fn case(f: &Field) -> (KnownMap<Vec<Block>>, Vec<RobotView>) {
-    let b = f.bounds();
-    let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).expect("capacity");
     let start = f.starts()[0].pos;
-    let order = f.bfs_order(start);
-    let half = order.len() / 2;
-    for p in &order[..half] {
-        let _ = map.visit(*p, f.arms(*p).unwrap_or_default(), RobotId(0));
-    }
+    let (map, order, half) = half_known(f);
     let robots = (0..16)
         .map(|j| RobotView {
             pos: order[half - 1 - (half - 1) * j / 16],
