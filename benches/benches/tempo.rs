@@ -58,7 +58,7 @@ fn bench_tempo(c: &mut Criterion) {
                 ("decide16", TempoConfig::default()),
                 ("decide16-no-pull", no_pull),
             ] {
-                let mut tempo = Tempo { config };
+                let mut tempo = Tempo::new(config);
                 g.bench_function(BenchmarkId::new(name, format!("{kind}-{n}")), |bch| {
                     bch.iter(|| black_box(tempo.decide(&ctx, &mut fields).expect("decide")))
                 });

@@ -49,6 +49,9 @@ pub struct TempoConfig {
     pub deduce_penalty_edges: u32,
     /// In the endgame, minimise the largest travel plus way home.
     pub endgame_return: bool,
+    /// Keep a robot's share while the map is unchanged instead of
+    /// re-assigning the team at every node (see `Commitment`).
+    pub keep_share: bool,
     /// A robot without a share goes home.
     pub idle_home: bool,
     /// A robot without a share waits where it is (it decides again when the
@@ -78,6 +81,7 @@ impl Default for TempoConfig {
         TempoConfig {
             deduce_penalty_edges: 0,
             endgame_return: false,
+            keep_share: true,
             idle_home: true,
             idle_stay: true,
             trail_edges: 8,
@@ -94,6 +98,99 @@ impl Default for TempoConfig {
 pub struct Tempo {
     /// Its knobs.
     pub config: TempoConfig,
+    /// Each robot's share from its last full decision (the strategy may
+    /// decide for a whole simulated team), see [`Commitment`].
+    kept: [Option<Commitment>; super::MAX_ROBOTS],
+}
+
+impl Tempo {
+    /// Tempo with these knobs and nothing remembered yet.
+    pub fn new(config: TempoConfig) -> Tempo {
+        Tempo {
+            config,
+            kept: [None; super::MAX_ROBOTS],
+        }
+    }
+}
+
+/// A robot's share, kept while re-assigning could not change it.
+///
+/// ## Why an unchanged map keeps the assignment optimal
+///
+/// Let σ be the min-sum assignment when the robot last decided in full,
+/// with costs C. Until the map changes, every robot that follows σ has come
+/// τ closer to its share, C'(j, σ(j)) = C(j, σ(j)) − τ, and no robot can
+/// have come more than τ closer to any node: C'(j, i) ≥ C(j, i) − τ (a robot
+/// that waited, τ = 0, not at all). Every assignment serves the same
+/// number of robots, so the sum of any other one has fallen by at most as
+/// much as σ's: σ is still optimal. Re-solving would only break ties
+/// another way, and late in a large run that re-solving was nearly all of
+/// the work: on open 256² with 16 robots, 90 % of the decisions with 16 to
+/// 31 frontier nodes left saw the same map as the robot's previous one,
+/// each searching 16 near-complete fields (docs/results/system.md).
+///
+/// The share is kept only if the robot stands where the last decision
+/// sent it (a retreat or a bump breaks it) and the team looks the same:
+/// the same robots, and the same ones out of reach (failed or unheard).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Commitment {
+    revision: u32,
+    team: usize,
+    away: u32,
+    pose: (usize, crate::geometry::Heading),
+    target: usize,
+}
+
+/// A team mate at least this far off (in ticks) counts as out of reach:
+/// the agent gives failed and unheard robots an ETA of a quarter of the
+/// tick range.
+const AWAY_ETA: Ticks = u32::MAX / 8;
+
+impl Commitment {
+    /// Which robots of the team are out of reach, one bit each.
+    fn away<M>(ctx: &Context<'_, M>) -> u32 {
+        ctx.robots
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| r.eta >= AWAY_ETA)
+            .fold(0, |m, (j, _)| m | (1 << (j % 32)))
+    }
+
+    /// The commitment to frontier node `target` of a decision leaving the
+    /// robot's node with heading `next`.
+    fn after<M>(
+        ctx: &Context<'_, M>,
+        target: usize,
+        next: crate::geometry::Heading,
+    ) -> Option<Commitment>
+    where
+        M: AsRef<[Block]> + AsMut<[Block]>,
+    {
+        let bounds = ctx.map.bounds();
+        let at = bounds.index(ctx.my()?.pos)?;
+        Some(Commitment {
+            revision: ctx.map.revision(),
+            team: ctx.robots.len(),
+            away: Self::away(ctx),
+            pose: (crate::path::neighbour_index(bounds, at, next)?, next),
+            target,
+        })
+    }
+
+    /// Whether this still holds for the robot deciding in `ctx`.
+    fn holds<M>(&self, ctx: &Context<'_, M>) -> bool
+    where
+        M: AsRef<[Block]> + AsMut<[Block]>,
+    {
+        let Some(me) = ctx.my() else { return false };
+        let bounds = ctx.map.bounds();
+        self.revision == ctx.map.revision()
+            && self.team == ctx.robots.len()
+            && self.away == Self::away(ctx)
+            && bounds.index(me.pos) == Some(self.pose.0)
+            && me.heading == self.pose.1
+            && ctx.map.is_frontier_at(self.target)
+    }
 }
 
 impl<M, F> Strategy<M, F> for Tempo
@@ -113,6 +210,21 @@ where
         let me = ctx.me;
         let k = ctx.robots.len();
         let cfg = self.config;
+        let kept = self.kept.get_mut(me).and_then(Option::take);
+        if let (true, Some(c)) = (cfg.keep_share, kept) {
+            if c.holds(ctx) {
+                if let (Some(f), Some(r)) = (fields.get_mut(me), ctx.my()) {
+                    let goal = ctx.map.bounds().pos(c.target);
+                    if f.astar(ctx.map, ctx.timing, r.pos, r.heading, goal)?
+                        .is_some()
+                    {
+                        let d = explore_decision(ctx, f, c.target);
+                        self.keep(ctx, c.target, d);
+                        return Ok(d);
+                    }
+                }
+            }
+        }
         let edge = i64::from(ctx.timing.edge.max(1));
         let pen = i64::from(cfg.deduce_penalty_edges) * edge;
         let per_edge = edge * i64::from(cfg.home_pull_pct) / 100;
@@ -230,7 +342,13 @@ where
             return Ok(Decision::STAY);
         };
         match mine {
-            Some(i) => Ok(explore_decision(ctx, f, i)),
+            Some(i) => {
+                let d = explore_decision(ctx, f, i);
+                if !endgame {
+                    self.keep(ctx, i, d);
+                }
+                Ok(d)
+            }
             None if self.config.idle_stay => {
                 let limit = self.config.trail_edges.saturating_mul(ctx.timing.edge);
                 if limit > 0 && ctx.robots.len() <= self.config.trail_team {
@@ -250,3 +368,20 @@ where
         }
     }
 }
+
+impl Tempo {
+    /// Remembers the share of the robot deciding `d` for frontier node `i`.
+    fn keep<M>(&mut self, ctx: &Context<'_, M>, i: usize, d: Decision)
+    where
+        M: AsRef<[Block]> + AsMut<[Block]>,
+    {
+        if let (true, Some(next), Some(slot)) =
+            (self.config.keep_share, d.next, self.kept.get_mut(ctx.me))
+        {
+            *slot = Commitment::after(ctx, i, next);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -182,12 +182,10 @@ fn tempo_explores_away_from_home_first() {
             me: 0,
         };
         let mut fields = [DistField::new(vec![PlanCell::EMPTY; min_cells(b.area())])];
-        let mut t = Tempo {
-            config: TempoConfig {
-                home_pull_pct: pull,
-                ..TempoConfig::default()
-            },
-        };
+        let mut t = Tempo::new(TempoConfig {
+            home_pull_pct: pull,
+            ..TempoConfig::default()
+        });
         t.decide(&ctx, &mut fields).unwrap()
     };
     assert_eq!(TempoConfig::default().home_pull_pct, 25);

@@ -55,33 +55,33 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
         "minpos" => Box::new(MinPos),
         "tempo" => Box::new(Tempo::default()),
         other => {
-            // `tempo:<deduce edges>:<endgame 0|1>:<idle: 0 trail, 1 home, 2 stay>:<spread>:<squared 0|1>[:<trail edges>[:<home pull %>[:<trail team>]]]` for
+            // `tempo:<deduce edges>:<endgame 0|1>:<idle: 0 trail, 1 home, 2 stay>:<spread>:<squared 0|1>[:<trail edges>[:<home pull %>[:<trail team>[:<keep share 0|1>]]]]` for
             // ablations.
             let rest = other.strip_prefix("tempo:")?;
             let v: Vec<u32> = rest
                 .split(':')
                 .map(|x| x.parse().ok())
                 .collect::<Option<_>>()?;
-            let (d, e, i, s, q, t, h, k) = match v[..] {
-                [d, e, i, s, q] => (d, e, i, s, q, 0, 0, u32::MAX),
-                [d, e, i, s, q, t] => (d, e, i, s, q, t, 0, u32::MAX),
-                [d, e, i, s, q, t, h] => (d, e, i, s, q, t, h, u32::MAX),
-                [d, e, i, s, q, t, h, k] => (d, e, i, s, q, t, h, k),
+            let (d, e, i, s, q, t, h, k, c) = match v[..] {
+                [d, e, i, s, q] => (d, e, i, s, q, 0, 0, u32::MAX, 1),
+                [d, e, i, s, q, t] => (d, e, i, s, q, t, 0, u32::MAX, 1),
+                [d, e, i, s, q, t, h] => (d, e, i, s, q, t, h, u32::MAX, 1),
+                [d, e, i, s, q, t, h, k] => (d, e, i, s, q, t, h, k, 1),
+                [d, e, i, s, q, t, h, k, c] => (d, e, i, s, q, t, h, k, c),
                 _ => return None,
             };
-            Box::new(Tempo {
-                config: TempoConfig {
-                    deduce_penalty_edges: d,
-                    endgame_return: e != 0,
-                    idle_home: i != 0,
-                    idle_stay: i == 2,
-                    spread: s,
-                    squared: q != 0,
-                    trail_edges: t,
-                    trail_team: usize::try_from(k).unwrap_or(usize::MAX),
-                    home_pull_pct: h,
-                },
-            })
+            Box::new(Tempo::new(TempoConfig {
+                keep_share: c != 0,
+                deduce_penalty_edges: d,
+                endgame_return: e != 0,
+                idle_home: i != 0,
+                idle_stay: i == 2,
+                spread: s,
+                squared: q != 0,
+                trail_edges: t,
+                trail_team: usize::try_from(k).unwrap_or(usize::MAX),
+                home_pull_pct: h,
+            }))
         }
     })
 }
