@@ -22,6 +22,153 @@ pub const MAX_CANDIDATES: usize = MAX_ROBOTS * MAX_ROBOTS;
 
 const INF: i64 = 1 << 40;
 
+/// Most picks a robot brings to [`Candidates::cheapest`].
+const PICKS: usize = MAX_ROBOTS + 4;
+
+/// Picks a robot brings first when they grow lazily (see [`Picks`]).
+const FIRST_PICKS: usize = 4;
+
+/// One robot's cheapest frontier nodes, cheapest first, found by its field
+/// grown only as far as they could change.
+///
+/// ## Why a few picks can be proved enough
+///
+/// The Hungarian algorithm ends with potentials `u` (robots) and `v`
+/// (columns) such that `u[j] + v[i] ≤ cost[j][i]` for every pair, with
+/// equality on the assignment, `v ≤ 0`, and `v = 0` on unassigned
+/// columns. Give every frontier node outside the matrix `v = 0` too: if
+/// `u[j]` is at most [`Picks::beyond`] for every robot, the inequality
+/// holds for every pair of the whole problem (a column robot `j`'s field
+/// never reached costs it at least that as well), so these potentials
+/// prove the assignment optimal over every frontier node
+/// (linear-programming duality). A robot for which it fails brings twice
+/// the picks, its field resumed where it stopped, and the assignment runs
+/// again. Late in a large run, when a robot's 16 cheapest frontier nodes
+/// lie across most of the map, most robots' first 4 settle it.
+#[derive(Clone, Copy)]
+pub(crate) struct Picks {
+    /// Up to [`PICKS`] cheapest found so far: (cost, node).
+    best: [(i64, usize); PICKS],
+    n: usize,
+    /// How many picks the robot brings.
+    want: usize,
+    /// Frontier nodes its field has not reached yet.
+    unseen: usize,
+    started: bool,
+}
+
+impl Picks {
+    fn new(want: usize) -> Picks {
+        Picks {
+            best: [(INF, usize::MAX); PICKS],
+            n: 0,
+            want: want.clamp(1, PICKS),
+            unseen: usize::MAX,
+            started: false,
+        }
+    }
+
+    /// The picks the robot brings.
+    fn brought(&self) -> &[(i64, usize)] {
+        self.best.get(..self.n.min(self.want)).unwrap_or(&[])
+    }
+
+    /// A lower bound of the robot's cost for every frontier node it does
+    /// not bring: nodes found but not brought cost at least the last pick,
+    /// and so do the ones never reached (`floor` passed it); with fewer
+    /// picks than wanted, every reachable frontier node is brought.
+    fn beyond(&self) -> i64 {
+        if self.n >= self.want {
+            self.best.get(self.want - 1).map_or(INF, |&(b, _)| b)
+        } else {
+            INF
+        }
+    }
+
+    /// Grows robot `j`'s (at pose `r`) field until its `want` cheapest
+    /// frontier nodes are known: from scratch the first time, resumed after
+    /// [`Picks::more`]. With `spread`, nodes that near a `taken` one are
+    /// skipped (then picks must not grow: `taken` changes).
+    fn grow<M, F>(
+        &mut self,
+        ctx: &Context<'_, M>,
+        field: &mut DistField<F>,
+        (j, r): (usize, &super::RobotView),
+        (spread, taken): (u32, &[usize]),
+        cost: &mut impl FnMut(usize, usize, Ticks) -> Option<i64>,
+        floor: &mut impl FnMut(usize, Ticks) -> i64,
+    ) -> Result<(), PlanError>
+    where
+        M: AsRef<[Block]> + AsMut<[Block]>,
+        F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+    {
+        let map = ctx.map;
+        let bounds = map.bounds();
+        let start = !self.started;
+        if start {
+            self.started = true;
+            self.unseen = map.frontier_len();
+        } else if self.unseen == 0 {
+            return Ok(());
+        }
+        let p = self;
+        let reached = |i: usize, d: Ticks| {
+            if map.is_frontier_at(i) {
+                p.unseen = p.unseen.saturating_sub(1);
+                let at = bounds.pos(i);
+                let crowded = spread > 0
+                    && taken
+                        .iter()
+                        .any(|&q| q != i && bounds.pos(q).manhattan(at) <= spread);
+                if let (false, Some(x)) = (crowded, cost(j, i, d)) {
+                    // Insert in order; ties keep the earlier (nearer) node.
+                    let n = p.n;
+                    let slot = p
+                        .best
+                        .get(..n)
+                        .unwrap_or(&[])
+                        .iter()
+                        .position(|&(b, _)| x < b)
+                        .unwrap_or(n);
+                    if slot < PICKS {
+                        let end = n.min(PICKS - 1);
+                        if let Some(s) = p.best.get_mut(slot..=end) {
+                            s.rotate_right(1);
+                        }
+                        if let Some(s) = p.best.get_mut(slot) {
+                            *s = (x, i);
+                        }
+                        p.n = (n + 1).min(PICKS);
+                    }
+                }
+            }
+            // No frontier node at travel d or beyond can beat the last pick.
+            let done = p.n >= p.want
+                && p.best
+                    .get(p.want - 1)
+                    .is_some_and(|&(b, _)| floor(j, d) > b);
+            if done || p.unseen == 0 {
+                Flow::Stop
+            } else {
+                Flow::Continue
+            }
+        };
+        if start {
+            field.compute(map, ctx.timing, r.pos, r.heading, reached)
+        } else {
+            field.resume(map, reached)
+        }
+    }
+
+    /// Twice the picks, up to `most`; whether that is more.
+    fn more(&mut self, most: usize) -> bool {
+        let want = (self.want * 2).min(most).min(PICKS);
+        let grew = want > self.want;
+        self.want = want.max(self.want);
+        grew
+    }
+}
+
 /// The cost matrix of a team against candidate frontier nodes.
 pub(crate) struct Candidates {
     pub(crate) k: usize,
@@ -130,24 +277,32 @@ impl Candidates {
         Ok(Some(c))
     }
 
-    /// Collects each robot's `per_robot` cheapest frontier nodes under
+    /// Collects each robot's cheapest frontier nodes under
     /// `cost(j, node, travel)` (`None` excludes a node), growing robot `j`'s
     /// field only until `floor(j, d)` (no frontier node at travel `d` or
-    /// beyond costs less) exceeds its `per_robot`-th best. A robot's row
-    /// holds its cost to every column its field reached; columns it never
-    /// reached are forbidden to it.
+    /// beyond costs less) exceeds its last pick. A robot's row holds its
+    /// cost to every column its field reached; columns it never reached are
+    /// forbidden to it.
     ///
-    /// With `per_robot` = k this loses no optimal assignment: by the module
-    /// docs' swap argument, which holds for any cost, some optimal
-    /// assignment gives every robot one of its own k cheapest nodes, and
-    /// those are all in its row. Unlike [`Candidates::collect`] no field
-    /// grows to reach every other robot's candidates, which at 16 robots on
-    /// a large field meant 16 near-complete searches per decision.
+    /// With `per_robot` = k picks each this loses no optimal assignment: by
+    /// the module docs' swap argument, which holds for any cost, some
+    /// optimal assignment gives every robot one of its own k cheapest
+    /// nodes, and those are all in its row. Unlike [`Candidates::collect`]
+    /// no field grows to reach every other robot's candidates, which at 16
+    /// robots on a large field meant 16 near-complete searches per decision.
+    ///
+    /// `lazy` (for the min-sum objective only) starts from fewer picks
+    /// and proves the assignment optimal instead: see [`Picks`]. In a maze,
+    /// where frontier nodes are few and far apart, a robot's 16 cheapest
+    /// lie across most of the known map, and most robots' first few picks
+    /// already settle the assignment.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn cheapest<M, F>(
         ctx: &Context<'_, M>,
         fields: &mut [DistField<F>],
         per_robot: usize,
         spread: u32,
+        lazy: bool,
         mut cost: impl FnMut(usize, usize, Ticks) -> Option<i64>,
         mut floor: impl FnMut(usize, Ticks) -> i64,
         bound: impl FnMut(usize, usize) -> i64,
@@ -164,75 +319,64 @@ impl Candidates {
                 return Ok(Some(c));
             }
         }
-        let mut c = Candidates::empty(k);
-        let per_robot = per_robot.clamp(1, (MAX_CANDIDATES / k).min(MAX_ROBOTS + 4));
-        let map = ctx.map;
-        let bounds = map.bounds();
-        for (j, (r, field)) in ctx.robots.iter().zip(fields.iter_mut()).enumerate() {
-            // This robot's best so far, cheapest first: (cost, node).
-            let mut best = [(INF, usize::MAX); MAX_ROBOTS + 4];
-            let mut n = 0usize;
-            let mut unseen = map.frontier_len();
-            field.compute(map, ctx.timing, r.pos, r.heading, |i, d| {
-                if n == per_robot && best.get(n - 1).is_some_and(|&(b, _)| floor(j, d) > b) {
-                    return Flow::Stop;
-                }
-                if !map.is_frontier_at(i) {
-                    return Flow::Continue;
-                }
-                unseen = unseen.saturating_sub(1);
-                let taken = c.nodes.get(..c.m).unwrap_or(&[]);
-                let p = bounds.pos(i);
-                let crowded = spread > 0
-                    && taken
-                        .iter()
-                        .any(|&q| q != i && bounds.pos(q).manhattan(p) <= spread);
-                if let (false, Some(x)) = (crowded, cost(j, i, d)) {
-                    // Insert in order; ties keep the earlier (nearer) node.
-                    let at = best
-                        .get(..n)
-                        .unwrap_or(&[])
-                        .iter()
-                        .position(|&(b, _)| x < b)
-                        .unwrap_or(n);
-                    if at < per_robot {
-                        let end = n.min(per_robot - 1);
-                        if let Some(s) = best.get_mut(at..=end) {
-                            s.rotate_right(1);
-                        }
-                        if let Some(s) = best.get_mut(at) {
-                            *s = (x, i);
-                        }
-                        n = (n + 1).min(per_robot);
-                    }
-                }
-                if unseen == 0 {
-                    Flow::Stop
-                } else {
-                    Flow::Continue
-                }
-            })?;
-            for &(_, i) in best.get(..n).unwrap_or(&[]) {
-                if !c.nodes.get(..c.m).unwrap_or(&[]).contains(&i) {
-                    if let Some(slot) = c.nodes.get_mut(c.m) {
-                        *slot = i;
-                        c.m += 1;
-                    }
-                }
-            }
-        }
-        for (j, field) in fields.iter().take(k).enumerate() {
-            for col in 0..c.m {
-                let Some(&node) = c.nodes.get(col) else {
+        let per_robot = per_robot.clamp(1, (MAX_CANDIDATES / k).min(PICKS));
+        // Spread makes a robot's picks depend on the robots' before it, so
+        // one robot's picks cannot grow alone.
+        let lazy = lazy && spread == 0;
+        let first = if lazy {
+            per_robot.min(FIRST_PICKS)
+        } else {
+            per_robot
+        };
+        let mut picks = [Picks::new(first); MAX_ROBOTS];
+        let mut stale = [true; MAX_ROBOTS];
+        loop {
+            let mut c = Candidates::empty(k);
+            for (j, (r, field)) in ctx.robots.iter().zip(fields.iter_mut()).enumerate() {
+                let (Some(p), Some(s)) = (picks.get_mut(j), stale.get_mut(j)) else {
                     continue;
                 };
-                let x = field.dist_at(node).and_then(|d| cost(j, node, d));
-                if let (Some(x), Some(v)) = (x, c.cost.get_mut(j).and_then(|r| r.get_mut(col))) {
-                    *v = x.clamp(-INF + 1, INF - 1);
+                if *s {
+                    let taken = c.nodes.get(..c.m).unwrap_or(&[]);
+                    p.grow(ctx, field, (j, r), (spread, taken), &mut cost, &mut floor)?;
+                    *s = false;
+                }
+                for &(_, i) in p.brought() {
+                    if !c.nodes.get(..c.m).unwrap_or(&[]).contains(&i) {
+                        if let Some(slot) = c.nodes.get_mut(c.m) {
+                            *slot = i;
+                            c.m += 1;
+                        }
+                    }
                 }
             }
+            for (j, field) in fields.iter().take(k).enumerate() {
+                for col in 0..c.m {
+                    let Some(&node) = c.nodes.get(col) else {
+                        continue;
+                    };
+                    let x = field.dist_at(node).and_then(|d| cost(j, node, d));
+                    if let (Some(x), Some(v)) = (x, c.cost.get_mut(j).and_then(|r| r.get_mut(col)))
+                    {
+                        *v = x.clamp(-INF + 1, INF - 1);
+                    }
+                }
+            }
+            if !lazy {
+                return Ok(Some(c));
+            }
+            let (_, u) = hungarian(&c, INF - 1);
+            let mut grown = false;
+            for ((&uj, p), s) in u.iter().zip(picks.iter_mut()).zip(stale.iter_mut()).take(k) {
+                if uj > p.beyond() && p.more(per_robot) {
+                    *s = true;
+                    grown = true;
+                }
+            }
+            if !grown {
+                return Ok(Some(c));
+            }
         }
-        Ok(Some(c))
     }
 
     /// [`Candidates::cheapest`] once fewer frontier nodes than robots are
@@ -395,8 +539,8 @@ impl Candidates {
 /// Min-sum assignment of `k` rows to `m ≥ k` columns of `cost` (capped at
 /// `cap`: costlier pairs count as forbidden): the Hungarian algorithm with
 /// potentials, O(k²·m). Returns the column of each row, `None` where only a
-/// forbidden pair was left.
-fn hungarian(c: &Candidates, cap: i64) -> [Option<usize>; MAX_ROBOTS] {
+/// forbidden pair was left, and each row's potential `u` (see [`Picks`]).
+fn hungarian(c: &Candidates, cap: i64) -> ([Option<usize>; MAX_ROBOTS], [i64; MAX_ROBOTS]) {
     let (n, m) = (c.k, c.m.max(c.k));
     // 1-based arrays as in the textbook form; column 0 is the virtual one.
     let mut u = [0i64; MAX_ROBOTS + 1];
@@ -484,7 +628,11 @@ fn hungarian(c: &Candidates, cap: i64) -> [Option<usize>; MAX_ROBOTS] {
             }
         }
     }
-    out
+    let mut rows = [0i64; MAX_ROBOTS];
+    for (r, x) in rows.iter_mut().zip(u.iter().skip(1)) {
+        *r = *x;
+    }
+    (out, rows)
 }
 
 /// The smallest threshold under which every row can still be matched, for
@@ -508,6 +656,7 @@ fn bottleneck_threshold(c: &Candidates) -> i64 {
     };
     vals.sort_unstable();
     let full = hungarian(c, INF)
+        .0
         .iter()
         .take(c.k)
         .filter(|x| x.is_some())
@@ -517,6 +666,7 @@ fn bottleneck_threshold(c: &Candidates) -> i64 {
         let mid = (lo + hi) / 2;
         let cap = vals.get(mid).copied().unwrap_or(INF);
         let got = hungarian(c, cap)
+            .0
             .iter()
             .take(c.k)
             .filter(|x| x.is_some())
@@ -535,7 +685,7 @@ pub(crate) fn hungarian_cols(
         AssignmentObjective::MinSum => INF - 1,
         AssignmentObjective::MinMax => bottleneck_threshold(c),
     };
-    hungarian(c, cap)
+    hungarian(c, cap).0
 }
 
 /// What an [`Assignment`] minimises.

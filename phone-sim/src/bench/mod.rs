@@ -81,6 +81,7 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
                 trail_edges: t,
                 trail_team: usize::try_from(k).unwrap_or(usize::MAX),
                 home_pull_pct: h,
+                ..TempoConfig::default()
             }))
         }
     })

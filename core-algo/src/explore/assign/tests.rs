@@ -33,7 +33,7 @@ proptest! {
     #[test]
     fn cheapest_candidates_lose_no_optimal_assignment(
         w in 2u16..12, h in 2u16..12, seed in any::<u64>(), frac in 0.05f64..1.0,
-        k in 1usize..7, pull in 0u32..60, me in 0usize..6,
+        k in 1usize..7, pull in 0u32..60, me in 0usize..6, lazy in any::<bool>(),
     ) {
         let area = usize::from(w) * usize::from(h);
         let map = random_known(w, h, seed, (area as f64 * frac) as usize + 1);
@@ -79,7 +79,7 @@ proptest! {
         };
         let field = || DistField::new(vec![PlanCell::EMPTY; min_cells(area)]);
         let mut fields: Vec<_> = (0..k).map(|_| field()).collect();
-        let c = Candidates::cheapest(&ctx, &mut fields, k, 0, cost, floor, bound).unwrap().unwrap();
+        let c = Candidates::cheapest(&ctx, &mut fields, k, 0, lazy, cost, floor, bound).unwrap().unwrap();
         // Every robot's full field, every frontier node.
         let mut full = vec![vec![None; area]; k];
         for (j, r) in robots.iter().enumerate() {

@@ -2,8 +2,8 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::*;
-use crate::explore::{Goal, RobotView, Strategy};
 use crate::explore::assign::Candidates;
+use crate::explore::{Goal, RobotView, Strategy};
 use crate::geometry::{Heading, Pos};
 use crate::map::KnownMap;
 use crate::path::tests::random_known;
@@ -14,25 +14,17 @@ use std::vec;
 use std::vec::Vec;
 
 /// The least min-sum total over every frontier node of `map`, with every
-/// robot's full field and tempo's default costs; `fixed` gives one robot a
-/// node first. `(robots served, total)`.
+/// robot's full field and tempo's default costs, when each robot of
+/// `pinned` gets the node given (`Some`) or none (`None`) first.
+/// `(robots served, total)`.
 fn best_total(
     map: &KnownMap<Vec<Block>>,
     robots: &[RobotView],
-    fixed: Option<(usize, usize)>,
+    pinned: &[(usize, Option<usize>)],
 ) -> (usize, i64) {
     let b = map.bounds();
     let timing = Timing::DEFAULT;
     let per_edge = i64::from(timing.edge) * i64::from(TempoConfig::default().home_pull_pct) / 100;
-    let frontier: Vec<usize> = (0..b.area()).filter(|&i| map.is_frontier_at(i)).collect();
-    let rows: Vec<usize> = (0..robots.len())
-        .filter(|&j| fixed.is_none_or(|(me, _)| me != j))
-        .collect();
-    let cols: Vec<usize> = frontier
-        .iter()
-        .copied()
-        .filter(|&i| fixed.is_none_or(|(_, t)| t != i))
-        .collect();
     let cost = |j: usize, i: usize| -> Option<i64> {
         let r = &robots[j];
         let mut f = DistField::new(vec![PlanCell::EMPTY; min_cells(b.area())]);
@@ -41,6 +33,12 @@ fn best_total(
         let d = f.dist_at(i)?;
         Some(i64::from(d) + i64::from(r.eta) - per_edge * i64::from(b.pos(i).manhattan(r.home)))
     };
+    let rows: Vec<usize> = (0..robots.len())
+        .filter(|&j| pinned.iter().all(|&(p, _)| p != j))
+        .collect();
+    let cols: Vec<usize> = (0..b.area())
+        .filter(|&i| map.is_frontier_at(i) && pinned.iter().all(|&(_, t)| t != Some(i)))
+        .collect();
     let mut c = Candidates::empty(rows.len());
     c.m = cols.len();
     for (col, &i) in cols.iter().enumerate() {
@@ -52,9 +50,11 @@ fn best_total(
         }
     }
     let (mut n, mut sum) = (0, 0);
-    if let Some((me, t)) = fixed {
-        n += 1;
-        sum += cost(me, t).expect("the kept share is reachable");
+    for &(j, t) in pinned {
+        if let Some(t) = t {
+            n += 1;
+            sum += cost(j, t).expect("a pinned share is reachable");
+        }
     }
     if !rows.is_empty() {
         for (row, col) in hungarian_cols(&c, AssignmentObjective::MinSum)
@@ -71,6 +71,28 @@ fn best_total(
     (n, sum)
 }
 
+/// A random known map and a team of `k` on its known nodes.
+fn team(w: u16, h: u16, seed: u64, frac: f64, k: usize) -> (KnownMap<Vec<Block>>, Vec<RobotView>) {
+    let area = usize::from(w) * usize::from(h);
+    let map = random_known(w, h, seed, (area as f64 * frac) as usize + 1);
+    let b = map.bounds();
+    let known: Vec<usize> = (0..area).filter(|&i| arms_at(&map, i).is_some()).collect();
+    let pick = |j: usize, salt: u64| {
+        let x = seed.rotate_left((j * 7) as u32 + salt as u32) ^ salt.wrapping_mul(0x9E37);
+        b.pos(known[(x as usize) % known.len()])
+    };
+    let robots = (0..k)
+        .map(|j| RobotView {
+            pos: pick(j, 1),
+            heading: Heading::from_index((j % 4) as u8),
+            eta: 0,
+            home: pick(j, 2),
+            target: None,
+        })
+        .collect();
+    (map, robots)
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(512))]
 
@@ -85,22 +107,8 @@ proptest! {
         k in 2usize..6, me in 0usize..6,
     ) {
         let area = usize::from(w) * usize::from(h);
-        let map = random_known(w, h, seed, (area as f64 * frac) as usize + 1);
+        let (map, mut robots) = team(w, h, seed, frac, k);
         let b = map.bounds();
-        let known: Vec<usize> = (0..area).filter(|&i| arms_at(&map, i).is_some()).collect();
-        let pick = |j: usize, salt: u64| {
-            let x = seed.rotate_left((j * 7) as u32 + salt as u32) ^ salt.wrapping_mul(0x9E37);
-            b.pos(known[(x as usize) % known.len()])
-        };
-        let mut robots: Vec<RobotView> = (0..k)
-            .map(|j| RobotView {
-                pos: pick(j, 1),
-                heading: Heading::from_index((j % 4) as u8),
-                eta: 0,
-                home: pick(j, 2),
-                target: None,
-            })
-            .collect();
         let me = me % k;
         let timing = Timing::DEFAULT;
         let field = || DistField::new(vec![PlanCell::EMPTY; min_cells(area)]);
@@ -118,8 +126,8 @@ proptest! {
         let ti = b.index(t).unwrap();
         prop_assume!(p1 != ti);
         // Only a share is kept (a robot without one trails or waits).
-        prop_assume!(tempo.kept[me].is_some());
-        prop_assert_eq!(best_total(&map, &robots, Some((me, ti))), best_total(&map, &robots, None));
+        prop_assume!(tempo.kept[me].is_some_and(|c| c.share().is_some()));
+        prop_assert_eq!(best_total(&map, &robots, &[(me, Some(ti))]), best_total(&map, &robots, &[]));
         // Standing still is not where the decision sent it: decide afresh.
         {
             let ctx = Context { map: &map, timing, robots: &robots, me };
@@ -133,7 +141,7 @@ proptest! {
         let ctx = Context { map: &map, timing, robots: &robots, me };
         let kept = tempo.decide(&ctx, &mut fields).unwrap();
         prop_assert_eq!(kept.goal, Goal::Frontier(t));
-        prop_assert_eq!(best_total(&map, &robots, Some((me, ti))), best_total(&map, &robots, None));
+        prop_assert_eq!(best_total(&map, &robots, &[(me, Some(ti))]), best_total(&map, &robots, &[]));
         // The kept way is a cheapest one: its first move plus the rest.
         let h1 = kept.next.unwrap();
         let p2 = neighbour_index(b, p1, h1).unwrap();
@@ -152,6 +160,55 @@ proptest! {
             from_p0.dist_at(ti),
             Some(from_p0.dist_pose(b.pos(p1), next).unwrap() + from_p1.dist_at(ti).unwrap())
         );
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 256, max_global_rejects: 65536, ..ProptestConfig::default() })]
+
+    /// A robot without a share waits, and its wait is kept: after a team
+    /// mate moves one edge towards its own share (of the same optimal
+    /// assignment) over an unchanged map, leaving the waiting robot out is
+    /// still optimal, and the kept decision is to wait.
+    #[test]
+    fn a_kept_wait_stays_optimal_while_a_mate_moves(
+        w in 3u16..10, h in 3u16..10, seed in any::<u64>(), frac in 0.7f64..1.0,
+        k in 2usize..8, me in 0usize..8,
+    ) {
+        let area = usize::from(w) * usize::from(h);
+        let (map, mut robots) = team(w, h, seed, frac, k);
+        let b = map.bounds();
+        let me = me % k;
+        let timing = Timing::DEFAULT;
+        let mut fields: Vec<_> =
+            (0..k).map(|_| DistField::new(vec![PlanCell::EMPTY; min_cells(area)])).collect();
+        // Without trailing a robot with no share waits.
+        let config = TempoConfig { trail_edges: 0, ..TempoConfig::default() };
+        let mut tempo = Tempo::new(config);
+        let mut decide = |tempo: &mut Tempo, robots: &[RobotView], j: usize| {
+            let ctx = Context { map: &map, timing, robots, me: j };
+            tempo.decide(&ctx, &mut fields).unwrap()
+        };
+        let waits = decide(&mut tempo, &robots, me);
+        prop_assume!(waits.goal == Goal::Wait);
+        prop_assert!(tempo.kept[me].is_some_and(|c| c.share().is_none()));
+        prop_assert_eq!(best_total(&map, &robots, &[(me, None)]), best_total(&map, &robots, &[]));
+        // A team mate with a share in an optimal assignment that leaves
+        // `me` out (ties may split the deciders otherwise).
+        let mate = (0..k).filter(|&j| j != me).find_map(|j| {
+            let d = decide(&mut Tempo::new(config), &robots, j);
+            let (Goal::Frontier(t), Some(next)) = (d.goal, d.next) else { return None };
+            let ti = b.index(t)?;
+            let both = [(me, None), (j, Some(ti))];
+            (best_total(&map, &robots, &both) == best_total(&map, &robots, &[])).then_some((j, next))
+        });
+        prop_assume!(mate.is_some());
+        let (j, next) = mate.unwrap();
+        let at = b.index(robots[j].pos).unwrap();
+        robots[j].pos = b.pos(neighbour_index(b, at, next).unwrap());
+        robots[j].heading = next;
+        prop_assert_eq!(best_total(&map, &robots, &[(me, None)]), best_total(&map, &robots, &[]));
+        prop_assert_eq!(decide(&mut tempo, &robots, me), waits);
     }
 }
 

@@ -1,0 +1,104 @@
+//! Tempo's memory between decisions: see [`Commitment`].
+
+use crate::explore::Context;
+use crate::geometry::Heading;
+use crate::map::Block;
+use crate::path::neighbour_index;
+use crate::timing::Ticks;
+
+/// A robot's share, or its wait, kept while re-assigning could not change
+/// it.
+///
+/// ## Why an unchanged map keeps the assignment optimal
+///
+/// Let σ be the min-sum assignment when the robot last decided in full,
+/// with costs C. Until the map changes, every robot that follows σ has come
+/// τ closer to its share, C'(j, σ(j)) = C(j, σ(j)) − τ, and no robot can
+/// have come more than τ closer to any node: C'(j, i) ≥ C(j, i) − τ (a robot
+/// that waited, τ = 0, not at all). Every assignment serves the same
+/// number of robots, so the sum of any other one has fallen by at most as
+/// much as σ's: σ is still optimal. Re-solving would only break ties
+/// another way, and late in a large run that re-solving was nearly all of
+/// the work: on open 256² with 16 robots, 90 % of the decisions with 16 to
+/// 31 frontier nodes left saw the same map as the robot's previous one,
+/// each searching 16 near-complete fields (docs/results/system.md).
+///
+/// A robot that got no share and waits stays unassigned the same way: it
+/// has not moved, and every robot that did came closer only to its own
+/// share. The share, or the wait, is kept only if the robot stands where
+/// the last decision left it (a retreat or a bump breaks it) and the team
+/// looks the same: the same robots, and the same ones out of reach (failed
+/// or unheard).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct Commitment {
+    revision: u32,
+    team: usize,
+    away: u32,
+    /// The node (index) and heading the robot must decide from next.
+    pose: (usize, Heading),
+    /// The share, or `None` for a wait.
+    share: Option<usize>,
+}
+
+/// A team mate at least this far off (in ticks) counts as out of reach:
+/// the agent gives failed and unheard robots an ETA of a quarter of the
+/// tick range.
+const AWAY_ETA: Ticks = u32::MAX / 8;
+
+impl Commitment {
+    /// Which robots of the team are out of reach, one bit each.
+    fn away<M>(ctx: &Context<'_, M>) -> u32 {
+        ctx.robots
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| r.eta >= AWAY_ETA)
+            .fold(0, |m, (j, _)| m | (1 << (j % 32)))
+    }
+
+    /// The commitment of a decision for `share` (or a wait) that leaves the
+    /// robot's node with heading `next` (or keeps it standing).
+    pub(super) fn after<M>(
+        ctx: &Context<'_, M>,
+        share: Option<usize>,
+        next: Option<Heading>,
+    ) -> Option<Commitment>
+    where
+        M: AsRef<[Block]> + AsMut<[Block]>,
+    {
+        let bounds = ctx.map.bounds();
+        let me = ctx.my()?;
+        let at = bounds.index(me.pos)?;
+        let pose = match (share, next) {
+            (Some(_), Some(h)) => (neighbour_index(bounds, at, h)?, h),
+            (None, None) => (at, me.heading),
+            _ => return None,
+        };
+        Some(Commitment {
+            revision: ctx.map.revision(),
+            team: ctx.robots.len(),
+            away: Self::away(ctx),
+            pose,
+            share,
+        })
+    }
+
+    /// The kept share, `None` for a wait.
+    pub(super) fn share(&self) -> Option<usize> {
+        self.share
+    }
+
+    /// Whether this still holds for the robot deciding in `ctx`.
+    pub(super) fn holds<M>(&self, ctx: &Context<'_, M>) -> bool
+    where
+        M: AsRef<[Block]> + AsMut<[Block]>,
+    {
+        let Some(me) = ctx.my() else { return false };
+        let bounds = ctx.map.bounds();
+        self.revision == ctx.map.revision()
+            && self.team == ctx.robots.len()
+            && self.away == Self::away(ctx)
+            && bounds.index(me.pos) == Some(self.pose.0)
+            && me.heading == self.pose.1
+            && self.share.is_none_or(|i| ctx.map.is_frontier_at(i))
+    }
+}
