@@ -1,0 +1,157 @@
+//! One robot's cheapest frontier nodes for
+//! [`Candidates::cheapest`](super::Candidates::cheapest), and
+//! why a few of them can be proved enough.
+
+use super::INF;
+use crate::explore::{Context, MAX_ROBOTS, RobotView};
+use crate::map::Block;
+use crate::path::{DistField, Flow, PlanCell, PlanError};
+use crate::timing::Ticks;
+
+/// Most picks a robot brings to
+/// [`Candidates::cheapest`](super::Candidates::cheapest).
+pub(super) const PICKS: usize = MAX_ROBOTS + 4;
+
+/// Picks a robot brings first when they grow lazily (see [`Picks`]).
+pub(super) const FIRST_PICKS: usize = 4;
+
+/// One robot's cheapest frontier nodes, cheapest first, found by its field
+/// grown only as far as they could change.
+///
+/// ## Why a few picks can be proved enough
+///
+/// The Hungarian algorithm ends with potentials `u` (robots) and `v`
+/// (columns) such that `u[j] + v[i] ≤ cost[j][i]` for every pair, with
+/// equality on the assignment, `v ≤ 0`, and `v = 0` on unassigned
+/// columns. Give every frontier node outside the matrix `v = 0` too: if
+/// `u[j]` is at most [`Picks::beyond`] for every robot, the inequality
+/// holds for every pair of the whole problem (a column robot `j`'s field
+/// never reached costs it at least that as well), so these potentials
+/// prove the assignment optimal over every frontier node
+/// (linear-programming duality). A robot for which it fails brings twice
+/// the picks, its field resumed where it stopped, and the assignment runs
+/// again. Late in a large run, when a robot's 16 cheapest frontier nodes
+/// lie across most of the map, most robots' first 4 settle it.
+#[derive(Clone, Copy)]
+pub(super) struct Picks {
+    /// Up to [`PICKS`] cheapest found so far: (cost, node).
+    best: [(i64, usize); PICKS],
+    n: usize,
+    /// How many picks the robot brings.
+    want: usize,
+    /// Frontier nodes its field has not reached yet.
+    unseen: usize,
+    started: bool,
+}
+
+impl Picks {
+    pub(super) fn new(want: usize) -> Picks {
+        Picks {
+            best: [(INF, usize::MAX); PICKS],
+            n: 0,
+            want: want.clamp(1, PICKS),
+            unseen: usize::MAX,
+            started: false,
+        }
+    }
+
+    /// The picks the robot brings.
+    pub(super) fn brought(&self) -> &[(i64, usize)] {
+        self.best.get(..self.n.min(self.want)).unwrap_or(&[])
+    }
+
+    /// A lower bound of the robot's cost for every frontier node it does
+    /// not bring: nodes found but not brought cost at least the last pick,
+    /// and so do the ones never reached (`floor` passed it); with fewer
+    /// picks than wanted, every reachable frontier node is brought.
+    pub(super) fn beyond(&self) -> i64 {
+        if self.n >= self.want {
+            self.best.get(self.want - 1).map_or(INF, |&(b, _)| b)
+        } else {
+            INF
+        }
+    }
+
+    /// Grows robot `j`'s (at pose `r`) field until its `want` cheapest
+    /// frontier nodes are known: from scratch the first time, resumed after
+    /// [`Picks::more`]. With `spread`, nodes that near a `taken` one are
+    /// skipped (then picks must not grow: `taken` changes).
+    pub(super) fn grow<M, F>(
+        &mut self,
+        ctx: &Context<'_, M>,
+        field: &mut DistField<F>,
+        (j, r): (usize, &RobotView),
+        (spread, taken): (u32, &[usize]),
+        cost: &mut impl FnMut(usize, usize, Ticks) -> Option<i64>,
+        floor: &mut impl FnMut(usize, Ticks) -> i64,
+    ) -> Result<(), PlanError>
+    where
+        M: AsRef<[Block]> + AsMut<[Block]>,
+        F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+    {
+        let map = ctx.map;
+        let bounds = map.bounds();
+        let start = !self.started;
+        if start {
+            self.started = true;
+            self.unseen = map.frontier_len();
+        } else if self.unseen == 0 {
+            return Ok(());
+        }
+        let p = self;
+        let reached = |i: usize, d: Ticks| {
+            if map.is_frontier_at(i) {
+                p.unseen = p.unseen.saturating_sub(1);
+                let at = bounds.pos(i);
+                let crowded = spread > 0
+                    && taken
+                        .iter()
+                        .any(|&q| q != i && bounds.pos(q).manhattan(at) <= spread);
+                if let (false, Some(x)) = (crowded, cost(j, i, d)) {
+                    // Insert in order; ties keep the earlier (nearer) node.
+                    let n = p.n;
+                    let slot = p
+                        .best
+                        .get(..n)
+                        .unwrap_or(&[])
+                        .iter()
+                        .position(|&(b, _)| x < b)
+                        .unwrap_or(n);
+                    if slot < PICKS {
+                        let end = n.min(PICKS - 1);
+                        if let Some(s) = p.best.get_mut(slot..=end) {
+                            s.rotate_right(1);
+                        }
+                        if let Some(s) = p.best.get_mut(slot) {
+                            *s = (x, i);
+                        }
+                        p.n = (n + 1).min(PICKS);
+                    }
+                }
+            }
+            // No frontier node at travel d or beyond can beat the last pick.
+            let done = p.n >= p.want
+                && p.best
+                    .get(p.want - 1)
+                    .is_some_and(|&(b, _)| floor(j, d) > b);
+            if done || p.unseen == 0 {
+                Flow::Stop
+            } else {
+                Flow::Continue
+            }
+        };
+        if start {
+            field.compute(map, ctx.timing, r.pos, r.heading, reached)
+        } else {
+            field.resume(map, reached)
+        }
+    }
+
+    /// Twice the picks, up to `most`; whether that is more.
+    pub(super) fn more(&mut self, most: usize) -> bool {
+        let want = (self.want * 2).min(most).min(PICKS);
+        let grew = want > self.want;
+        self.want = want.max(self.want);
+        grew
+    }
+}
