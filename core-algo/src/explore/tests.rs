@@ -234,3 +234,35 @@ fn tempo_trails_a_near_frontier_only_in_a_small_team() {
     assert_eq!(waits.goal, Goal::Wait);
     assert_eq!(waits.next, None);
 }
+
+/// A random known map (`frac` of its `w` × `h` nodes known, see
+/// `random_known`) and a team of `k` standing on known nodes, with homes
+/// on known nodes, all of them drawn from `seed`.
+pub(super) fn random_team(
+    w: u16,
+    h: u16,
+    seed: u64,
+    frac: f64,
+    k: usize,
+) -> (KnownMap<Vec<Block>>, Vec<RobotView>) {
+    let area = usize::from(w) * usize::from(h);
+    let map = crate::path::tests::random_known(w, h, seed, (area as f64 * frac) as usize + 1);
+    let b = map.bounds();
+    let known: Vec<usize> = (0..area)
+        .filter(|&i| crate::path::arms_at(&map, i).is_some())
+        .collect();
+    let pick = |j: usize, salt: u64| {
+        let x = seed.rotate_left((j * 7) as u32 + salt as u32) ^ salt.wrapping_mul(0x9E37);
+        b.pos(known[(x as usize) % known.len()])
+    };
+    let robots = (0..k)
+        .map(|j| RobotView {
+            pos: pick(j, 1),
+            heading: Heading::from_index((j % 4) as u8),
+            eta: 0,
+            home: pick(j, 2),
+            target: None,
+        })
+        .collect();
+    (map, robots)
+}

@@ -2,10 +2,8 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::*;
-use crate::explore::RobotView;
-use crate::geometry::Heading;
-use crate::path::tests::random_known;
-use crate::path::{arms_at, min_cells};
+use crate::explore::tests::random_team;
+use crate::path::min_cells;
 use crate::timing::Timing;
 use proptest::prelude::*;
 use std::vec;
@@ -36,22 +34,11 @@ proptest! {
         k in 1usize..7, pull in 0u32..60, me in 0usize..6, lazy in any::<bool>(),
     ) {
         let area = usize::from(w) * usize::from(h);
-        let map = random_known(w, h, seed, (area as f64 * frac) as usize + 1);
+        let (map, mut robots) = random_team(w, h, seed, frac, k);
         let b = map.bounds();
-        let known: Vec<usize> = (0..area).filter(|&i| arms_at(&map, i).is_some()).collect();
-        let pick = |j: usize, salt: u64| {
-            let x = seed.rotate_left((j * 7) as u32 + salt as u32) ^ salt.wrapping_mul(0x9E37);
-            b.pos(known[(x as usize) % known.len()])
-        };
-        let robots: Vec<RobotView> = (0..k)
-            .map(|j| RobotView {
-                pos: pick(j, 1),
-                heading: Heading::from_index((j % 4) as u8),
-                eta: (j as u32 * 13) % 40,
-                home: pick(j, 2),
-                target: None,
-            })
-            .collect();
+        for (j, r) in robots.iter_mut().enumerate() {
+            r.eta = (j as u32 * 13) % 40;
+        }
         let timing = Timing::DEFAULT;
         let ctx = Context { map: &map, timing, robots: &robots, me: me % k };
         let edge = i64::from(timing.edge);

@@ -3,11 +3,11 @@
 
 use super::*;
 use crate::explore::assign::Candidates;
+use crate::explore::tests::random_team;
 use crate::explore::{Goal, RobotView, Strategy};
 use crate::geometry::{Heading, Pos};
 use crate::map::KnownMap;
-use crate::path::tests::random_known;
-use crate::path::{arms_at, min_cells, neighbour_index};
+use crate::path::{min_cells, neighbour_index};
 use crate::timing::Timing;
 use proptest::prelude::*;
 use std::vec;
@@ -71,28 +71,6 @@ fn best_total(
     (n, sum)
 }
 
-/// A random known map and a team of `k` on its known nodes.
-fn team(w: u16, h: u16, seed: u64, frac: f64, k: usize) -> (KnownMap<Vec<Block>>, Vec<RobotView>) {
-    let area = usize::from(w) * usize::from(h);
-    let map = random_known(w, h, seed, (area as f64 * frac) as usize + 1);
-    let b = map.bounds();
-    let known: Vec<usize> = (0..area).filter(|&i| arms_at(&map, i).is_some()).collect();
-    let pick = |j: usize, salt: u64| {
-        let x = seed.rotate_left((j * 7) as u32 + salt as u32) ^ salt.wrapping_mul(0x9E37);
-        b.pos(known[(x as usize) % known.len()])
-    };
-    let robots = (0..k)
-        .map(|j| RobotView {
-            pos: pick(j, 1),
-            heading: Heading::from_index((j % 4) as u8),
-            eta: 0,
-            home: pick(j, 2),
-            target: None,
-        })
-        .collect();
-    (map, robots)
-}
-
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(512))]
 
@@ -107,7 +85,7 @@ proptest! {
         k in 2usize..6, me in 0usize..6,
     ) {
         let area = usize::from(w) * usize::from(h);
-        let (map, mut robots) = team(w, h, seed, frac, k);
+        let (map, mut robots) = random_team(w, h, seed, frac, k);
         let b = map.bounds();
         let me = me % k;
         let timing = Timing::DEFAULT;
@@ -176,7 +154,7 @@ proptest! {
         k in 2usize..8, me in 0usize..8,
     ) {
         let area = usize::from(w) * usize::from(h);
-        let (map, mut robots) = team(w, h, seed, frac, k);
+        let (map, mut robots) = random_team(w, h, seed, frac, k);
         let b = map.bounds();
         let me = me % k;
         let timing = Timing::DEFAULT;
