@@ -108,6 +108,8 @@ struct Matching {
     size: usize,
     /// Present vertices of the searched colour.
     left: Vec<usize>,
+    /// The augmenting search's frames, kept between searches.
+    stack: Vec<(usize, usize, usize)>,
 }
 
 const NONE: usize = usize::MAX;
@@ -121,26 +123,55 @@ impl Matching {
             round: 0,
             size: 0,
             left: Vec::new(),
+            stack: Vec::new(),
         }
     }
 
-    fn augment(&mut self, truth: &Truth, v: usize) -> bool {
-        for h in Heading::ALL {
-            let Some(u) = neighbour_index(truth.bounds(), v, h) else {
+    /// Searches an augmenting path from the free vertex `root` (depth
+    /// first, skipping vertices stamped this round) and flips it.
+    fn augment(&mut self, truth: &Truth, root: usize) -> bool {
+        // An explicit stack, not recursion: an augmenting path can be as
+        // long as the field is large, too deep for the thread's stack on a
+        // 1024² field. A frame is (vertex, next heading to try, the
+        // neighbour it went on through).
+        let b = truth.bounds();
+        let mut stack = core::mem::take(&mut self.stack);
+        stack.clear();
+        stack.push((root, 0usize, NONE));
+        let mut found = false;
+        while let Some(&(v, next, _)) = stack.last() {
+            let Some(&h) = Heading::ALL.get(next) else {
+                stack.pop();
+                continue;
+            };
+            if let Some(top) = stack.last_mut() {
+                top.1 += 1;
+            }
+            let Some(u) = neighbour_index(b, v, h) else {
                 continue;
             };
             if !self.present[u] || self.stamp[u] == self.round {
                 continue;
             }
             self.stamp[u] = self.round;
+            if let Some(top) = stack.last_mut() {
+                top.2 = u;
+            }
             let w = self.mate[u];
-            if w == NONE || self.augment(truth, w) {
+            if w == NONE {
+                found = true;
+                break;
+            }
+            stack.push((w, 0, NONE));
+        }
+        if found {
+            for &(v, _, u) in &stack {
                 self.mate[u] = v;
                 self.mate[v] = u;
-                return true;
             }
         }
-        false
+        self.stack = stack;
+        found
     }
 
     /// Adds the vertices `vs` and matches until maximum again.
@@ -433,6 +464,37 @@ mod tests {
         // edges, and the bound with return is at most that.
         assert!(lb.with_return <= 8 && lb.with_return >= 7);
         assert!(lb.offline_upper >= lb.explore);
+    }
+
+    /// An augmenting path as long as the field: a snake through a 600 ×
+    /// 600 grid whose inner nodes are matched in pairs, then both ends
+    /// added. A recursive search needs 90 000 frames here, more than a
+    /// test thread's stack holds.
+    #[test]
+    fn a_field_long_augmenting_path_is_found() {
+        let side = 600i16;
+        let truth = grid(side, side);
+        let b = truth.bounds();
+        let mut path = Vec::new();
+        for y in (0..side).step_by(2) {
+            let xs: Vec<i16> = if y % 4 == 0 {
+                (0..side).collect()
+            } else {
+                (0..side).rev().collect()
+            };
+            path.extend(xs.iter().map(|&x| b.index(Pos::new(x, y)).unwrap()));
+            if y + 2 < side {
+                let x = if y % 4 == 0 { side - 1 } else { 0 };
+                path.push(b.index(Pos::new(x, y + 1)).unwrap());
+            }
+        }
+        path.pop();
+        assert_eq!(path.len() % 2, 0);
+        let mut m = Matching::new(b.area());
+        m.add_level(&truth, &path[1..path.len() - 1]);
+        assert_eq!(m.size, path.len() / 2 - 1);
+        m.add_level(&truth, &[path[0], path[path.len() - 1]]);
+        assert_eq!(m.size, path.len() / 2);
     }
 
     proptest::proptest! {
