@@ -14,7 +14,7 @@ use super::layers::CooperationLayer;
 use super::{Context, Decision, MAX_ROBOTS, Strategy, explore_decision, go_home, nearest_or_home};
 use crate::geometry::Pos;
 use crate::map::Block;
-use crate::path::{DistField, Flow, PlanCell, PlanError};
+use crate::path::{DistField, Flow, PlanCell, PlanError, arms_at};
 use crate::timing::Ticks;
 
 /// Most candidate frontier nodes an assignment considers.
@@ -285,6 +285,33 @@ impl Candidates {
             return Ok(None);
         }
         let m = c.m;
+        // A second lower bound, from our own field: a team mate standing on
+        // a node we reach at `at` is at least `d(node) − at − U-turn` of
+        // travel from any node we reach at `d(node)` (else we could drive
+        // there through its node). In a maze, where Manhattan distance says
+        // little, it spares growing the fields of team mates near us that
+        // are no nearer the frontier than we are.
+        let mut near = [[i64::MIN; MAX_ROBOTS]; MAX_ROBOTS];
+        let u_turn = 2 * field.timing().quarter_turn;
+        for (j, row) in near.iter_mut().enumerate().take(k) {
+            let at = ctx.robots.get(j).and_then(|q| {
+                let i = map.bounds().index(q.pos)?;
+                arms_at(map, i)?;
+                field.dist_at(i)
+            });
+            let Some(at) = at else { continue };
+            for (col, lb) in row.iter_mut().enumerate().take(m) {
+                let node = c.nodes.get(col).copied().unwrap_or(usize::MAX);
+                if let Some(d) = field.dist_at(node) {
+                    let least = d.saturating_sub(at).saturating_sub(u_turn);
+                    *lb = cost(j, node, least).unwrap_or(i64::MIN);
+                }
+            }
+        }
+        let mut bound = |j: usize, col: usize, node: usize| -> i64 {
+            let by_field = near.get(j).and_then(|r| r.get(col)).copied();
+            bound(j, node).max(by_field.unwrap_or(i64::MIN))
+        };
         let mut searched = [false; MAX_ROBOTS];
         let mut fill = |c: &mut Candidates, j: usize, field: &DistField<F>| {
             for col in 0..m {
@@ -319,7 +346,7 @@ impl Candidates {
         let mut order = [(0i64, 0usize); MAX_ROBOTS];
         for (j, o) in order.iter_mut().enumerate().take(k) {
             let nearest = (0..m)
-                .filter_map(|col| c.nodes.get(col).map(|&node| bound(j, node)))
+                .filter_map(|col| c.nodes.get(col).map(|&node| bound(j, col, node)))
                 .min()
                 .unwrap_or(INF);
             *o = (nearest, j);
@@ -335,7 +362,7 @@ impl Candidates {
             for col in 0..m {
                 let node = c.nodes.get(col).copied().unwrap_or(usize::MAX);
                 let t = threshold(&c, col);
-                if bound(j, node) < t {
+                if bound(j, col, node) < t {
                     limit = Some(limit.map_or(t, |l: i64| l.max(t)));
                 }
             }
