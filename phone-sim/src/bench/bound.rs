@@ -106,7 +106,7 @@ struct Matching {
     stamp: Vec<u32>,
     round: u32,
     size: usize,
-    /// Present vertices of the searched colour.
+    /// Free present vertices of the searched colour.
     left: Vec<usize>,
     /// The augmenting search's frames, kept between searches.
     stack: Vec<(usize, usize, usize)>,
@@ -187,13 +187,16 @@ impl Matching {
         loop {
             self.round += 1;
             let mut grew = false;
-            for i in 0..self.left.len() {
-                let v = self.left[i];
+            let mut left = core::mem::take(&mut self.left);
+            // Matched vertices stay matched: only the free ones are kept.
+            left.retain(|&v| {
                 if self.mate[v] == NONE && self.augment(truth, v) {
                     self.size += 1;
                     grew = true;
                 }
-            }
+                self.mate[v] == NONE
+            });
+            self.left = left;
             if !grew {
                 break;
             }
