@@ -148,10 +148,7 @@ impl Candidates {
     /// robots on a large field meant 16 near-complete searches per decision.
     ///
     /// `lazy` (for the min-sum objective only) starts from fewer picks
-    /// and proves the assignment optimal instead: see [`Picks`]. In a maze,
-    /// where frontier nodes are few and far apart, a robot's 16 cheapest
-    /// lie across most of the known map, and most robots' first few picks
-    /// already settle the assignment.
+    /// and proves the assignment optimal instead: see [`Picks`].
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn cheapest<M, F>(
         ctx: &Context<'_, M>,

@@ -109,8 +109,8 @@ impl Default for TempoConfig {
 pub struct Tempo {
     /// Its knobs.
     pub config: TempoConfig,
-    /// Each robot's share from its last full decision (the strategy may
-    /// decide for a whole simulated team), see [`Commitment`].
+    /// Each robot's share, or wait, from its last full decision (the
+    /// strategy may decide for a whole simulated team), see [`Commitment`].
     kept: [Option<Commitment>; super::MAX_ROBOTS],
 }
 

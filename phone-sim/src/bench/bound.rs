@@ -14,8 +14,8 @@
 //! whose four lattice neighbours are reachable field nodes. So
 //! |U ∩ {d > t}| ≤ α(C_{>t}), the maximum independent set of the candidates
 //! beyond t, which on the bipartite lattice is |C_{>t}| − ν(C_{>t}) (König).
-//! The matching ν is grown incrementally as t falls: adding a vertex raises
-//! ν by at most one, through an augmenting path that starts at the vertex.
+//! The matching ν is grown incrementally as t falls, one distance level at
+//! a time (see `Matching`).
 //!
 //! ## The bounds, in edge traversals of the busiest robot
 //!

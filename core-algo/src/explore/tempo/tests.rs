@@ -25,12 +25,19 @@ fn best_total(
     let b = map.bounds();
     let timing = Timing::DEFAULT;
     let per_edge = i64::from(timing.edge) * i64::from(TempoConfig::default().home_pull_pct) / 100;
+    // Every robot's full field, grown once.
+    let full: Vec<_> = robots
+        .iter()
+        .map(|r| {
+            let mut f = fresh_fields(b.area(), 1).remove(0);
+            f.compute(map, timing, r.pos, r.heading, |_, _| Flow::Continue)
+                .unwrap();
+            f
+        })
+        .collect();
     let cost = |j: usize, i: usize| -> Option<i64> {
         let r = &robots[j];
-        let mut f = DistField::new(vec![PlanCell::EMPTY; min_cells(b.area())]);
-        f.compute(map, timing, r.pos, r.heading, |_, _| Flow::Continue)
-            .unwrap();
-        let d = f.dist_at(i)?;
+        let d = full[j].dist_at(i)?;
         Some(i64::from(d) + i64::from(r.eta) - per_edge * i64::from(b.pos(i).manhattan(r.home)))
     };
     let rows: Vec<usize> = (0..robots.len())
@@ -71,6 +78,13 @@ fn best_total(
     (n, sum)
 }
 
+/// `k` planner fields for a window of `area` nodes.
+fn fresh_fields(area: usize, k: usize) -> Vec<DistField<Vec<PlanCell>>> {
+    (0..k)
+        .map(|_| DistField::new(vec![PlanCell::EMPTY; min_cells(area)]))
+        .collect()
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(512))]
 
@@ -89,8 +103,8 @@ proptest! {
         let b = map.bounds();
         let me = me % k;
         let timing = Timing::DEFAULT;
-        let field = || DistField::new(vec![PlanCell::EMPTY; min_cells(area)]);
-        let mut fields: Vec<_> = (0..k).map(|_| field()).collect();
+        let field = || fresh_fields(area, 1).remove(0);
+        let mut fields = fresh_fields(area, k);
         let mut tempo = Tempo::default();
         let first = {
             let ctx = Context { map: &map, timing, robots: &robots, me };
@@ -158,8 +172,7 @@ proptest! {
         let b = map.bounds();
         let me = me % k;
         let timing = Timing::DEFAULT;
-        let mut fields: Vec<_> =
-            (0..k).map(|_| DistField::new(vec![PlanCell::EMPTY; min_cells(area)])).collect();
+        let mut fields = fresh_fields(area, k);
         // Without trailing a robot with no share waits.
         let config = TempoConfig { trail_edges: 0, ..TempoConfig::default() };
         let mut tempo = Tempo::new(config);
