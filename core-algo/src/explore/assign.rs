@@ -282,35 +282,25 @@ impl Candidates {
             return Ok(None);
         }
         let m = c.m;
-        // A second lower bound, from our own field: a team mate standing on
-        // a node we reach at `at` is at least `d(node) − at − U-turn` of
-        // travel from any node we reach at `d(node)` (else we could drive
-        // there through its node). In a maze, where Manhattan distance says
-        // little, it spares growing the fields of team mates near us that
-        // are no nearer the frontier than we are.
+        // A second lower bound, from every field searched so far (see
+        // `learn`): ours first, then each team mate's as it is grown. In a
+        // maze, where Manhattan distance says little, it spares growing the
+        // fields of team mates that stand behind one already searched, no
+        // nearer the frontier (maze 64², 16 robots: 7.8 → 4.7 team mates'
+        // fields per decision).
         let mut near = [[i64::MIN; MAX_ROBOTS]; MAX_ROBOTS];
         let u_turn = 2 * field.timing().quarter_turn;
-        for (j, row) in near.iter_mut().enumerate().take(k) {
-            let at = ctx.robots.get(j).and_then(|q| {
-                let i = map.bounds().index(q.pos)?;
-                arms_at(map, i)?;
-                field.dist_at(i)
-            });
-            let Some(at) = at else { continue };
-            for (col, lb) in row.iter_mut().enumerate().take(m) {
-                let node = c.nodes.get(col).copied().unwrap_or(usize::MAX);
-                if let Some(d) = field.dist_at(node) {
-                    let least = d.saturating_sub(at).saturating_sub(u_turn);
-                    *lb = cost(j, node, least).unwrap_or(i64::MIN);
-                }
-            }
-        }
-        let mut bound = |j: usize, col: usize, node: usize| -> i64 {
-            let by_field = near.get(j).and_then(|r| r.get(col)).copied();
-            bound(j, node).max(by_field.unwrap_or(i64::MIN))
-        };
+        learn(&mut near, ctx, &c, field, u_turn, &mut cost);
+        let mut bound =
+            |near: &[[i64; MAX_ROBOTS]; MAX_ROBOTS], j: usize, col: usize, node: usize| {
+                let by_field = near.get(j).and_then(|r| r.get(col)).copied();
+                bound(j, node).max(by_field.unwrap_or(i64::MIN))
+            };
         let mut searched = [false; MAX_ROBOTS];
-        let mut fill = |c: &mut Candidates, j: usize, field: &DistField<F>| {
+        let fill = |c: &mut Candidates,
+                    j: usize,
+                    field: &DistField<F>,
+                    cost: &mut dyn FnMut(usize, usize, Ticks) -> Option<i64>| {
             for col in 0..m {
                 let node = c.nodes.get(col).copied().unwrap_or(usize::MAX);
                 if let (Some(x), Some(v)) = (
@@ -323,7 +313,7 @@ impl Candidates {
         };
         if let (Some(s), Some(field)) = (searched.get_mut(me), fields.get(me)) {
             *s = true;
-            fill(&mut c, me, field);
+            fill(&mut c, me, field, &mut cost);
         }
         if m == 0 {
             return Ok(Some(c));
@@ -343,7 +333,7 @@ impl Candidates {
         let mut order = [(0i64, 0usize); MAX_ROBOTS];
         for (j, o) in order.iter_mut().enumerate().take(k) {
             let nearest = (0..m)
-                .filter_map(|col| c.nodes.get(col).map(|&node| bound(j, col, node)))
+                .filter_map(|col| c.nodes.get(col).map(|&node| bound(&near, j, col, node)))
                 .min()
                 .unwrap_or(INF);
             *o = (nearest, j);
@@ -359,7 +349,7 @@ impl Candidates {
             for col in 0..m {
                 let node = c.nodes.get(col).copied().unwrap_or(usize::MAX);
                 let t = threshold(&c, col);
-                if bound(j, col, node) < t {
+                if bound(&near, j, col, node) < t {
                     limit = Some(limit.map_or(t, |l: i64| l.max(t)));
                 }
             }
@@ -385,7 +375,8 @@ impl Candidates {
             if let Some(s) = searched.get_mut(j) {
                 *s = true;
             }
-            fill(&mut c, j, field);
+            fill(&mut c, j, field, &mut cost);
+            learn(&mut near, ctx, &c, field, u_turn, &mut cost);
         }
         Ok(Some(c))
     }
@@ -413,6 +404,42 @@ impl Candidates {
             .and_then(|r| r.get(col))
             .copied()
             .unwrap_or(INF)
+    }
+}
+
+/// Raises `near[j][col]`, a lower bound of robot `j`'s cost for column
+/// `col`, with what `field` (a search from any pose) proves: a robot
+/// standing on a node the field reached at `at` is at least
+/// `d(node) − at − U-turn` of travel from a column node it reached at
+/// `d(node)`, or the field's robot could drive there through its node.
+fn learn<M, F>(
+    near: &mut [[i64; MAX_ROBOTS]; MAX_ROBOTS],
+    ctx: &Context<'_, M>,
+    c: &Candidates,
+    field: &DistField<F>,
+    u_turn: Ticks,
+    cost: &mut dyn FnMut(usize, usize, Ticks) -> Option<i64>,
+) where
+    M: AsRef<[Block]> + AsMut<[Block]>,
+    F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+{
+    let map = ctx.map;
+    for (j, row) in near.iter_mut().enumerate().take(c.k) {
+        let at = ctx.robots.get(j).and_then(|q| {
+            let i = map.bounds().index(q.pos)?;
+            arms_at(map, i)?;
+            field.dist_at(i)
+        });
+        let Some(at) = at else { continue };
+        for (col, lb) in row.iter_mut().enumerate().take(c.m) {
+            let node = c.nodes.get(col).copied().unwrap_or(usize::MAX);
+            if let Some(d) = field.dist_at(node) {
+                let least = d.saturating_sub(at).saturating_sub(u_turn);
+                if let Some(x) = cost(j, node, least) {
+                    *lb = (*lb).max(x);
+                }
+            }
+        }
     }
 }
 
