@@ -70,6 +70,17 @@ impl NodeCell {
         }
     }
 
+    /// The node's arms if they are known: visited, or deduced from four
+    /// visited neighbours (stored when the fourth is recorded, so that a
+    /// search through a deduced node does not look at its neighbours again).
+    pub const fn known_arms(self) -> Option<Arms> {
+        if self.is_visited() || self.visited_neighbours() == 4 {
+            Some(Arms::from_bits(self.flags & ARMS_MASK))
+        } else {
+            None
+        }
+    }
+
     /// How often robots reported this node (saturates at 255).
     pub const fn visits(self) -> u8 {
         self.visits
@@ -418,14 +429,7 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
     /// The arms of `p` if they are known: visited, or deduced from four
     /// visited neighbours.
     pub fn known_arms(&self, p: Pos) -> Option<Arms> {
-        let cell = self.cell(p);
-        if let Some(a) = cell.arms() {
-            return Some(a);
-        }
-        if cell.visited_neighbours() == 4 {
-            return Some(self.implied_arms(p).0);
-        }
-        None
+        self.cell(p).known_arms()
     }
 
     /// Whether everything reachable is known: no frontier left.
@@ -505,7 +509,13 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
             let into = u8::from(arms.has(h)) << INTO_SHIFT;
             let before = self.cell_at(j).is_some_and(is_deduced);
             self.update_cell(j, |c| c.counts += 1 + into);
-            if !before && self.cell_at(j).is_some_and(is_deduced) {
+            let now = self.cell_at(j).unwrap_or(NodeCell::EMPTY);
+            if !now.is_visited() && now.visited_neighbours() == 4 {
+                // Its shape is settled now: its neighbours' arms into it.
+                let (deduced, _) = self.implied_arms(self.bounds.pos(j));
+                self.update_cell(j, |c| c.flags = deduced.bits() & ARMS_MASK);
+            }
+            if !before && is_deduced(now) {
                 self.deduced += 1;
             }
             self.refresh_frontier(j);

@@ -276,14 +276,7 @@ pub fn neighbour_index(bounds: Bounds, i: usize, h: Heading) -> Option<usize> {
 /// The known arms of node `i`: visited, or deduced from four visited
 /// neighbours. `None` for unknown (frontier or unseen) nodes.
 pub fn arms_at<M: AsRef<[Block]> + AsMut<[Block]>>(map: &KnownMap<M>, i: usize) -> Option<Arms> {
-    let c = map.cell_at(i)?;
-    if let Some(a) = c.arms() {
-        return Some(a);
-    }
-    if c.visited_neighbours() == 4 {
-        return map.known_arms(map.bounds().pos(i));
-    }
-    None
+    map.cell_at(i)?.known_arms()
 }
 
 /// `i mod cap` for `i < 2 cap`: ring arithmetic without a division.
