@@ -366,8 +366,8 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
     }
 
     /// Changes whenever the known graph does (a node visited for the first
-    /// time, or the map cleared): a planner may reuse a field computed at the
-    /// same revision instead of searching again.
+    /// time, unless it was deduced, or the map cleared): a planner may reuse
+    /// a field computed at the same revision instead of searching again.
     pub fn revision(&self) -> u32 {
         self.revision
     }
@@ -478,7 +478,8 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
             }));
         }
         let was_frontier = self.is_frontier_at(i);
-        if is_deduced(cell) {
+        let was_deduced = is_deduced(cell);
+        if was_deduced {
             self.deduced -= 1;
         }
         self.update_cell(i, |c| {
@@ -498,7 +499,14 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
                 d[3].max(here[3]),
             ],
         });
-        self.revision = self.revision.wrapping_add(1);
+        // A deduced node's four neighbours are visited and its arms known
+        // already, so visiting it changes no search, no frontier and no
+        // deduction: the revision stays, and so do fields kept on it (robots
+        // driving home through deduced nodes made every team mate search
+        // its kept way home again).
+        if !was_deduced {
+            self.revision = self.revision.wrapping_add(1);
+        }
         self.refresh_frontier(i);
         let mut arm_leaves_bounds = false;
         for h in Heading::ALL {

@@ -52,6 +52,19 @@ fn node_with_four_visited_neighbours_is_deduced_not_frontier() {
     assert_eq!(m.known_arms(Pos::new(0, 0)), Some(arms(&[N, E, S])));
     assert!(m.is_complete());
     assert_eq!(m.known_len(), 5);
+    // Visiting the deduced node changes no search: the revision stays (a
+    // field kept on it stays valid), the map stays complete.
+    let revision = m.revision();
+    let v = m
+        .visit(Pos::new(0, 0), arms(&[N, E, S]), RobotId(1))
+        .unwrap();
+    assert!(v.first);
+    assert_eq!(m.revision(), revision);
+    assert!(m.is_complete());
+    assert_eq!(m.known_len(), 5);
+    // A node that was not deduced moves it.
+    m.visit(Pos::new(2, 0), Arms::NONE, RobotId(1)).unwrap();
+    assert_ne!(m.revision(), revision);
 }
 
 #[test]
