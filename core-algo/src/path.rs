@@ -321,9 +321,12 @@ pub struct DistField<S> {
     bounds: Bounds,
     start: Option<(usize, Heading)>,
     timing: Timing,
-    /// The node whose way is marked, and the map revision it was marked
-    /// on (see [`DistField::mark_way`]).
-    way: Option<(usize, u32)>,
+    /// The way that is marked, and the map revision it was marked on (see
+    /// [`DistField::mark_way`] and [`DistField::mark_descent`]).
+    way: Option<(Marked, u32)>,
+    /// The goal of a completed [`DistField::compute_reverse`], and the map
+    /// revision it ran on.
+    reverse: Option<(usize, u32)>,
     /// The node that [`DistField::passes`] memoises answers for, and the
     /// map revision.
     memo: Option<(usize, u32)>,
@@ -343,6 +346,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             timing: Timing::DEFAULT,
             way: None,
             memo: None,
+            reverse: None,
         }
     }
 
@@ -410,6 +414,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         });
         self.way = None;
         self.memo = None;
+        self.reverse = None;
         self.bounds = bounds;
         self.queue = Queues::default();
         self.start = Some((s0, heading));
@@ -554,6 +559,86 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         if self.start.is_none() {
             return Ok(());
         }
+        self.run::<M, false>(map, |v, _, key, first| {
+            if first {
+                reached(v, key)
+            } else {
+                Flow::Continue
+            }
+        })
+    }
+
+    /// The reverse field of node `goal`: for every (node, heading) state,
+    /// the cheapest time from that pose to reach `goal` (with any heading),
+    /// over the same moves and costs as [`DistField::compute`]. Calls
+    /// `reached(node, heading, time)` for every state as it settles,
+    /// cheapest first; stop early with [`Flow::Stop`]. Rooted at a robot's
+    /// home on a complete map it never changes again: every way home, the
+    /// robot's own and the one team mates predict for it, is read from it
+    /// (see the `descent` module).
+    ///
+    /// Afterwards [`DistField::dist_at`] holds each node's cheapest time
+    /// over its headings and, if the search ran to the end,
+    /// [`DistField::way_out`] the way from any pose; the field has no
+    /// start, so it gives no forward path and cannot be resumed.
+    pub fn compute_reverse<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        goal: Pos,
+        mut reached: impl FnMut(usize, Heading, Ticks) -> Flow,
+    ) -> Result<(), PlanError> {
+        self.tree = None;
+        let g = self.prepare(map, timing, goal, Heading::North)?;
+        let cap = self.cells.as_ref().len();
+        let bounds = self.bounds;
+        self.queue = Queues::default();
+        let mut stop = false;
+        for h in 0..4 {
+            self.settle(g, h, 0);
+        }
+        for heading in Heading::ALL {
+            let h = usize::from(heading.index());
+            // The edges that arrive at the goal heading `h`.
+            let from = neighbour_index(bounds, g, heading.opposite());
+            if from
+                .and_then(|u| arms_at(map, u))
+                .is_some_and(|a| a.has(heading))
+            {
+                let q = &mut self.queue;
+                if let Some(c) = self.cells.as_mut().get_mut(wrap(q.a_head + q.a_len, cap)) {
+                    c.ring_a = (g * 4 + h) as u32;
+                    q.a_len += 1;
+                }
+            }
+            stop = stop || reached(g, heading, 0) == Flow::Stop;
+        }
+        let result = if stop {
+            Ok(())
+        } else {
+            self.run::<M, true>(map, |v, h, key, _| {
+                let flow = reached(v, Heading::from_index(h as u8), key);
+                stop |= flow == Flow::Stop;
+                flow
+            })
+        };
+        self.start = None;
+        self.queue = Queues::default();
+        if result.is_ok() && !stop {
+            self.reverse = Some((g, map.revision()));
+        }
+        result
+    }
+
+    /// The search loop of [`DistField::resume`] (`REV` false: from the
+    /// start) and [`DistField::compute_reverse`] (`REV` true: towards the
+    /// goal, each edge driven backwards). `settled(node, heading, key,
+    /// first)` sees every settled state; `first` marks the node's first.
+    fn run<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool>(
+        &mut self,
+        map: &KnownMap<M>,
+        mut settled: impl FnMut(usize, usize, Ticks, bool) -> Flow,
+    ) -> Result<(), PlanError> {
         // The marks share the ring slots that the queues are about to use.
         self.unmark_way(map);
         if self.memo.take().is_some() {
@@ -573,13 +658,27 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             loop {
                 if let Some((v, h, d)) = pending.take() {
                     // Expand the settled state (v, h) at distance d.
-                    let Some(arms) = arms_at(map, v) else {
-                        continue;
-                    };
                     let heading = Heading::from_index(h as u8);
+                    // Forward: drive on from v, if v is passable. Reverse:
+                    // the state (w, h) one edge back, if w is passable and
+                    // has the arm; every node a reverse search settles
+                    // (but the goal, whose states are all settled at 0) was
+                    // entered that way, so it is passable and may turn.
+                    let (drive, arms_ok) = if REV {
+                        let w = neighbour_index(bounds, v, heading.opposite());
+                        let ok = w
+                            .and_then(|w| arms_at(map, w))
+                            .is_some_and(|a| a.has(heading));
+                        (w, ok)
+                    } else {
+                        let Some(arms) = arms_at(map, v) else {
+                            continue;
+                        };
+                        (neighbour_index(bounds, v, heading), arms.has(heading))
+                    };
                     let cells = self.cells.as_mut();
-                    if arms.has(heading) && d + t.edge <= MAX_DIST {
-                        if let Some(w) = neighbour_index(bounds, v, heading) {
+                    if arms_ok && d + t.edge <= MAX_DIST {
+                        if let Some(w) = drive {
                             if !cells.get(w).is_some_and(|c| c.settled(h)) {
                                 if a_len == cap {
                                     return Err(PlanError::QueueFull);
@@ -656,8 +755,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                     a_len -= 1;
                     let Some((s, key)) = a else { continue };
                     let h = s % 4;
-                    let Some(w) = neighbour_index(bounds, s / 4, Heading::from_index(h as u8))
-                    else {
+                    let toward = Heading::from_index(h as u8);
+                    let toward = if REV { toward.opposite() } else { toward };
+                    let Some(w) = neighbour_index(bounds, s / 4, toward) else {
                         continue;
                     };
                     (w, h, key)
@@ -669,15 +769,12 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                     let h2 = if e % 2 == 0 { (s + 1) & 3 } else { (s + 3) & 3 };
                     (s / 4, h2, key)
                 };
-                match self.settle(v, h, key) {
-                    None => continue,
-                    Some(true) => {
-                        pending = Some((v, h, key));
-                        if reached(v, key) == Flow::Stop {
-                            return Ok(());
-                        }
-                    }
-                    Some(false) => pending = Some((v, h, key)),
+                let Some(first) = self.settle(v, h, key) else {
+                    continue;
+                };
+                pending = Some((v, h, key));
+                if settled(v, h, key, first) == Flow::Stop {
+                    return Ok(());
                 }
             }
         })();
@@ -926,7 +1023,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let Some(dv) = self.dist_at(via) else {
             return false;
         };
-        if self.way == Some((target, map.revision())) {
+        if self.way == Some((Marked::Way(target), map.revision())) {
             return self
                 .cells
                 .as_ref()
@@ -959,7 +1056,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         map: &KnownMap<M>,
         target: usize,
     ) -> bool {
-        if self.way == Some((target, map.revision())) {
+        if self.way == Some((Marked::Way(target), map.revision())) {
             return true;
         }
         self.unmark_way(map);
@@ -968,7 +1065,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             self.set_way_bits(map, target, false);
             return false;
         }
-        self.way = Some((target, map.revision()));
+        self.way = Some((Marked::Way(target), map.revision()));
         true
     }
 
@@ -1070,11 +1167,18 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
 
     /// Clears the marks of [`DistField::mark_way`].
     fn unmark_way<M: AsRef<[Block]> + AsMut<[Block]>>(&mut self, map: &KnownMap<M>) {
-        let Some((target, revision)) = self.way.take() else {
+        let Some((marked, revision)) = self.way.take() else {
             return;
         };
         if revision == map.revision() {
-            self.set_way_bits(map, target, false);
+            match marked {
+                Marked::Way(target) => {
+                    self.set_way_bits(map, target, false);
+                }
+                Marked::Descent(state) => {
+                    self.set_descent_bits(map, state, false);
+                }
+            }
         } else {
             // The map changed, so the walk back might take another way:
             // clear every settled cell.
@@ -1256,7 +1360,17 @@ impl Heap {
     }
 }
 
+mod descent;
 mod weighted;
+
+/// Which way a field's marks follow.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Marked {
+    /// The cheapest path from the start to this node.
+    Way(usize),
+    /// The descent of a reverse field from this state (node × 4 + heading).
+    Descent(usize),
+}
 
 #[cfg(test)]
 pub(crate) mod tests;

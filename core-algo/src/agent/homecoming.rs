@@ -6,10 +6,6 @@
 
 use super::*;
 
-/// Team mates farther from home than this many edges have their way home
-/// read from a field rooted at their home (see `keep_out_of_the_way`).
-const NEAR_EDGES: u32 = 32;
-
 /// The planner field (after our own, the first) that keeps team mate `i`'s
 /// way home: one slot per team mate, so a kept way survives other team
 /// mates' moves, and never the field `me` of the whole array, which a
@@ -210,12 +206,31 @@ where
             .filter_map(|(_, q)| bounds.index(q.pos))
             .collect();
         let (map, timing, pos, heading) = (&self.map, self.config.timing, self.pos, self.heading);
-        let Some(field) = self.fields.first_mut().filter(|_| !settled.is_empty()) else {
+        let Some(at) = bounds.index(pos).filter(|_| !settled.is_empty()) else {
             return decision;
         };
-        let planned = field.compute_to(map, timing, pos, heading, home).is_ok()
-            && field.dist_at(home).is_some();
-        if !planned || !settled.iter().any(|&s| field.path_passes(map, home, s)) {
+        // The way the decision drives: the descent of the reverse field our
+        // way home was read from (see `explore::go_home`), else a forward
+        // field's. A way other than the one driven made robots flip between
+        // two ways round a settled team mate and back.
+        let kept = self
+            .fields
+            .iter()
+            .find(|f| f.is_reverse_to(map, timing, self.home))
+            .map(|f| {
+                settled
+                    .iter()
+                    .any(|&s| f.descent_passes(map, at, heading, s))
+            });
+        let Some(field) = self.fields.first_mut() else {
+            return decision;
+        };
+        let through = kept.unwrap_or_else(|| {
+            field.compute_to(map, timing, pos, heading, home).is_ok()
+                && field.dist_at(home).is_some()
+                && settled.iter().any(|&s| field.path_passes(map, home, s))
+        });
+        if !through {
             return decision;
         }
         let edge = timing.edge.max(1);
@@ -269,9 +284,9 @@ where
         };
         let depth = self.depth;
         let my_depth = depth.get(me).copied().unwrap_or(0);
-        // (field in `rest`, the node its way is walked back from, goes
-        // first) of every returning team mate.
-        let mut pending: Vec<(usize, usize, bool), MAX_ROBOTS> = Vec::new();
+        // (field in `rest`, the pose its way starts from, goes first) of
+        // every returning team mate.
+        let mut pending: Vec<(usize, (usize, Heading), bool), MAX_ROBOTS> = Vec::new();
         let peers = &self.peers;
         let homes: Vec<Pos, MAX_ROBOTS> = peers
             .iter()
@@ -283,7 +298,7 @@ where
         // (`firsts`) or of every other one: the others' ways only matter
         // once we know we are gated, so most decisions never plan them.
         let plan = |firsts: bool,
-                    pending: &mut Vec<(usize, usize, bool), MAX_ROBOTS>,
+                    pending: &mut Vec<(usize, (usize, Heading), bool), MAX_ROBOTS>,
                     rest: &mut [DistField<F>]| {
             for (i, p) in peers.iter().enumerate() {
                 if i == me || !p.known || p.failed {
@@ -301,59 +316,35 @@ where
                 if first != firsts {
                     continue;
                 }
-                // A far team mate's way home is read backwards from a field
-                // rooted at its home. Once the map is complete that field
-                // never changes: it is grown once and kept in the team
-                // mate's own slot, however often the team mate moves (a field
-                // from where it stands had to be grown again at every step:
-                // on a 256 × 256 field with 16 robots, two thirds of the
-                // run). It is the way the team mate drives up to ties between
-                // equally short ways, which matter only near the homes: a
-                // near team mate's way is planned from where it stands.
+                // A team mate's way home is read from a reverse field
+                // rooted at its home: the way its own `go_home` drives (up to
+                // a bump or a wait), from wherever it stands. Once the map is
+                // complete that field never changes, so it is searched once
+                // and kept in the team mate's own slot however often the
+                // team mate moves (a forward field from where it stood had
+                // to be grown again after every step: a fifth of a 16-robot
+                // run on open 256²).
                 let slot = mate_slot(i, me);
-                let (false, Some(at), Some(h), Some(field)) = (
-                    p.pos == p.home,
-                    bounds.index(p.pos),
-                    bounds.index(p.home),
-                    rest.get_mut(slot),
-                ) else {
+                let (false, Some(at), Some(field)) =
+                    (p.pos == p.home, bounds.index(p.pos), rest.get_mut(slot))
+                else {
                     continue;
                 };
-                let rooted = field.is_search_from(map, timing, p.home, Heading::North)
-                    && field.dist_at(at).is_some();
-                let forward = field.is_search_from(map, timing, p.pos, p.heading)
-                    && field.dist_at(h).is_some();
-                let near = timing.edge.saturating_mul(NEAR_EDGES);
-                let result = if forward {
-                    Ok(h)
-                } else {
-                    // Grown only until it reaches the team mate: the way it
-                    // drives lies inside, and as it comes nearer home the
-                    // field still holds its way (the whole map, searched
-                    // while the map still grows, was a third of a 16-robot
-                    // run on a 128² field).
-                    let rooted = rooted
-                        || field
-                            .compute_to(map, timing, p.home, Heading::North, at)
-                            .is_ok();
-                    if rooted && field.dist_at(at).is_some_and(|d| d > near) {
-                        Ok(at)
-                    } else {
-                        field
-                            .compute_to(map, timing, p.pos, p.heading, h)
-                            .map(|()| h)
-                    }
-                };
-                if let Ok(target) = result {
-                    let _ = pending.push((slot, target, first));
+                let kept = field.is_reverse_to(map, timing, p.home)
+                    || field
+                        .compute_reverse(map, timing, p.home, |_, _, _| Flow::Continue)
+                        .is_ok();
+                if kept {
+                    let _ = pending.push((slot, (at, p.heading), first));
                 }
             }
         };
         plan(true, &mut pending, rest);
         mark_ways(&pending, rest, map);
-        let gated = pending
-            .iter()
-            .any(|&(s, h, _)| rest.get(s).is_some_and(|f| f.path_passes(map, h, my_home)));
+        let gated = pending.iter().any(|&(s, (at, h), _)| {
+            rest.get(s)
+                .is_some_and(|f| f.descent_passes(map, at, h, my_home))
+        });
         // Never wait for ever: after a while in which no team mate we wait
         // for moved and none came home, go and let the make-way behaviour
         // sort it out. A team mate still driving (from the far end of a
@@ -366,8 +357,11 @@ where
                 continue;
             }
             let home = u32::from(p.pos == p.home);
-            let waited_for = pending.iter().any(|&(s, h, _)| {
-                s == mate_slot(i, me) && rest.get(s).is_some_and(|f| f.path_passes(map, h, my_home))
+            let waited_for = pending.iter().any(|&(s, (at, h), _)| {
+                s == mate_slot(i, me)
+                    && rest
+                        .get(s)
+                        .is_some_and(|f| f.descent_passes(map, at, h, my_home))
             });
             let at = if waited_for {
                 ((p.pos.x as u16 as u32) << 16) | p.pos.y as u16 as u32
@@ -396,9 +390,9 @@ where
         mark_ways(&pending, rest, map);
         let rest = &*rest;
         let on_someones_way = |v: usize| {
-            pending
-                .iter()
-                .any(|&(s, h, _)| rest.get(s).is_some_and(|f| f.path_passes(map, h, v)))
+            pending.iter().any(|&(s, (at, h), _)| {
+                rest.get(s).is_some_and(|f| f.descent_passes(map, at, h, v))
+            })
         };
         // Gated: wait at the node nearest to our home (not to where we
         // stand) that is off every returning robot's way, nobody's home and
@@ -488,14 +482,17 @@ where
 
 /// Marks the pending team mates' ways in their fields, so that asking
 /// whether a node is on one of them costs O(1) (see `DistField::mark_way`).
-fn mark_ways<M, F>(pending: &[(usize, usize, bool)], rest: &mut [DistField<F>], map: &KnownMap<M>)
-where
+fn mark_ways<M, F>(
+    pending: &[(usize, (usize, Heading), bool)],
+    rest: &mut [DistField<F>],
+    map: &KnownMap<M>,
+) where
     M: AsRef<[Block]> + AsMut<[Block]>,
     F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
 {
-    for &(s, target, _) in pending {
+    for &(s, (at, h), _) in pending {
         if let Some(f) = rest.get_mut(s) {
-            f.mark_way(map, target);
+            f.mark_descent(map, at, h);
         }
     }
 }

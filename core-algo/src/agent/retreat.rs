@@ -41,6 +41,11 @@ where
             .bounds()
             .index(way_end(&q, chained, self.map.is_complete()))?;
         let field = self.fields.first_mut()?;
+        // A forward field, not the reverse one its `go_home` reads its way
+        // from: the two differ only between equally short ways, and planned
+        // from the reverse field, retreats cost 3 % of the makespan on the
+        // system bench and stretched some maze homecomings twofold
+        // (docs/results/performance.md, stop 21).
         let reached = field
             .compute_to(&self.map, self.config.timing, q.pos, q.heading, goal)
             .is_ok();

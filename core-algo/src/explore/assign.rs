@@ -67,6 +67,9 @@ impl Candidates {
         let Some(k) = Self::team_size(ctx, fields) else {
             return Ok(None);
         };
+        if ctx.map.is_complete() {
+            return Ok(Some(Candidates::empty(k)));
+        }
         let mut c = Candidates::empty(k);
         let per_robot = per_robot.clamp(1, MAX_CANDIDATES / k);
         for (r, field) in ctx.robots.iter().zip(fields.iter_mut()) {
@@ -167,6 +170,11 @@ impl Candidates {
         let Some(k) = Self::team_size(ctx, fields) else {
             return Ok(None);
         };
+        // Nothing to assign: no search (it would also wipe a kept way
+        // home, see `go_home`).
+        if ctx.map.is_complete() {
+            return Ok(Some(Candidates::empty(k)));
+        }
         if spread == 0 && ctx.map.frontier_len() < per_robot.min(k) {
             if let Some(c) = Self::endgame(ctx, fields, &mut cost, &mut floor, bound)? {
                 return Ok(Some(c));

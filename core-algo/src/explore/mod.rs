@@ -152,6 +152,10 @@ where
     };
     let map = ctx.map;
     let bounds = map.bounds();
+    // Nothing to find: no search (it would also wipe a kept way home).
+    if map.is_complete() {
+        return Ok(None);
+    }
     let mut best: Option<(Ticks, usize)> = None;
     // Once every frontier node is reached there is nothing left to find: late
     // in a run, with a few frontier nodes left, this saves searching the rest
@@ -206,9 +210,26 @@ where
     if me.pos == me.home {
         return Ok(Decision::STAY);
     }
-    let Some(h) = ctx.map.bounds().index(me.home) else {
+    let bounds = ctx.map.bounds();
+    let (Some(h), Some(at)) = (bounds.index(me.home), bounds.index(me.pos)) else {
         return Ok(Decision::STAY);
     };
+    // Once the map is complete the way home never changes: a reverse field
+    // rooted at home, searched once and kept, gives it from wherever the
+    // robot stands, and team mates predict it from the same field
+    // (`path::descent`). A forward field had to be grown again after every
+    // step: 13 % of a 16-robot run on open 256².
+    if ctx.map.is_complete() {
+        if !field.is_reverse_to(ctx.map, ctx.timing, me.home) {
+            field.compute_reverse(ctx.map, ctx.timing, me.home, |_, _, _| Flow::Continue)?;
+        }
+        if let Some(next) = field.way_out(ctx.map, at, me.heading) {
+            return Ok(Decision {
+                goal: Goal::Home,
+                next: Some(next),
+            });
+        }
+    }
     field.compute_to(ctx.map, ctx.timing, me.pos, me.heading, h)?;
     Ok(match field.first_heading(ctx.map, h) {
         Some(next) => Decision {

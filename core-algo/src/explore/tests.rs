@@ -266,3 +266,68 @@ pub(super) fn random_team(
         .collect();
     (map, robots)
 }
+
+/// Once the map is complete, `go_home` reads the way from one reverse
+/// field kept across decisions, and driving its answers is a cheapest way.
+#[test]
+fn the_way_home_on_a_complete_map_is_cheapest_and_searched_once() {
+    let b = Bounds::new(Pos::new(0, 0), 5, 4);
+    let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).unwrap();
+    for i in 0..b.area() {
+        let p = b.pos(i);
+        let arms = Heading::ALL
+            .into_iter()
+            .filter(|&h| p.step(h).is_some_and(|q| b.index(q).is_some()))
+            // A wall between (1, y) and (2, y) for y < 3: the way bends.
+            .filter(|&h| {
+                !(p.y < 3 && ((p.x == 1 && h == Heading::East) || (p.x == 2 && h == Heading::West)))
+            })
+            .fold(Arms::NONE, |a, h| a.with(h));
+        map.visit(p, arms, RobotId(0)).unwrap();
+    }
+    assert!(map.is_complete());
+    let timing = Timing {
+        edge: 100,
+        quarter_turn: 40,
+    };
+    let home = Pos::new(0, 0);
+    let (mut pos, mut heading) = (Pos::new(4, 0), Heading::South);
+    let mut forward = DistField::new(vec![PlanCell::EMPTY; min_cells(b.area())]);
+    forward
+        .compute(&map, timing, pos, heading, |_, _| Flow::Continue)
+        .unwrap();
+    let cheapest = forward.dist_at(b.index(home).unwrap()).unwrap();
+    let mut field = DistField::new(vec![PlanCell::EMPTY; min_cells(b.area())]);
+    let mut time = 0;
+    for step in 0.. {
+        assert!(step < 20, "never home");
+        let robots = [RobotView {
+            pos,
+            heading,
+            eta: 0,
+            home,
+            target: None,
+        }];
+        let ctx = Context {
+            map: &map,
+            timing,
+            robots: &robots,
+            me: 0,
+        };
+        if step > 0 {
+            assert!(field.is_reverse_to(&map, timing, home), "searched again");
+        }
+        let d = go_home(&ctx, &mut field).unwrap();
+        let Some(next) = d.next else { break };
+        assert_eq!(d.goal, Goal::Home);
+        time += match heading.turn_to(next) {
+            None => 0,
+            Some(crate::geometry::Turn::UTurn) => 2 * timing.quarter_turn,
+            Some(_) => timing.quarter_turn,
+        } + timing.edge;
+        pos = pos.step(next).unwrap();
+        heading = next;
+    }
+    assert_eq!(pos, home);
+    assert_eq!(time, cheapest);
+}

@@ -1,4 +1,5 @@
 use super::*;
+use crate::geometry::Turn;
 use crate::map::blocks_for;
 use crate::team::RobotId;
 use proptest::prelude::*;
@@ -246,6 +247,55 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(96))]
+
+    /// The reverse field of a node prices every pose as a forward search
+    /// from that pose does, settles states cheapest first, each once, and
+    /// leaves scratch that a forward search reuses cleanly.
+    #[test]
+    fn reverse_field_agrees_with_every_forward_search(
+        w in 1u16..9, h in 1u16..9, seed in any::<u64>(), frac in 0.0f64..1.0,
+        goal in any::<usize>(), edge in 1u32..200, turn in 1u32..128,
+    ) {
+        let area = usize::from(w) * usize::from(h);
+        let map = random_known(w, h, seed, (area as f64 * frac) as usize + 1);
+        let t = Timing { edge, quarter_turn: turn };
+        let b = map.bounds();
+        let g = goal % area;
+        let mut r = field_for(area);
+        // Dirty scratch first: a forward search from elsewhere.
+        r.compute(&map, t, b.pos(area - 1), Heading::East, |_, _| Flow::Continue).unwrap();
+        let mut got = vec![None; area * 4];
+        let mut keys = Vec::new();
+        r.compute_reverse(&map, t, b.pos(g), |v, hd, d| {
+            let s = v * 4 + usize::from(hd.index());
+            assert!(got[s].is_none(), "state {s} settled twice");
+            got[s] = Some(d);
+            keys.push(d);
+            Flow::Continue
+        }).unwrap();
+        prop_assert!(keys.windows(2).all(|k| k[0] <= k[1]));
+        let mut f = field_for(area);
+        for v in 0..area {
+            for hd in Heading::ALL {
+                f.compute(&map, t, b.pos(v), hd, |_, _| Flow::Continue).unwrap();
+                let s = v * 4 + usize::from(hd.index());
+                prop_assert_eq!(got[s], f.dist_at(g), "pose {:?} {:?}", b.pos(v), hd);
+            }
+            let node = (0..4).filter_map(|k| got[v * 4 + k]).min();
+            prop_assert_eq!(r.dist_at(v), node);
+        }
+        // No path from a reverse field; a forward search after it is whole.
+        prop_assert!(r.first_heading(&map, 0).is_none());
+        r.compute(&map, t, Pos::new(0, 0), Heading::North, |_, _| Flow::Continue).unwrap();
+        f.compute(&map, t, Pos::new(0, 0), Heading::North, |_, _| Flow::Continue).unwrap();
+        for v in 0..area {
+            prop_assert_eq!(r.dist_at(v), f.dist_at(v));
+        }
+    }
+}
+
 #[test]
 fn planner_state_is_sixteen_bytes_per_node() {
     assert_eq!(core::mem::size_of::<PlanCell>(), 16);
@@ -418,5 +468,67 @@ proptest! {
             Flow::Continue
         }).unwrap();
         prop_assert_eq!(order, want_order);
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(96))]
+
+    /// Driving a reverse field's `way_out` from any pose reaches the goal
+    /// in exactly the time a forward search from that pose finds, and the
+    /// marked descent answers as the walk does for every node.
+    #[test]
+    fn descent_is_a_cheapest_way_and_its_marks_agree(
+        w in 1u16..9, h in 1u16..9, seed in any::<u64>(), frac in 0.0f64..1.0,
+        goal in any::<usize>(), from in any::<usize>(), hd in 0u8..4,
+        edge in 1u32..200, turn in 1u32..128,
+    ) {
+        let area = usize::from(w) * usize::from(h);
+        let map = random_known(w, h, seed, (area as f64 * frac) as usize + 1);
+        let t = Timing { edge, quarter_turn: turn };
+        let b = map.bounds();
+        let (g, v0, h0) = (goal % area, from % area, Heading::from_index(hd));
+        let mut r = field_for(area);
+        r.compute_reverse(&map, t, b.pos(g), |_, _, _| Flow::Continue).unwrap();
+        prop_assert!(r.is_reverse_to(&map, t, b.pos(g)));
+        let mut f = field_for(area);
+        f.compute(&map, t, b.pos(v0), h0, |_, _| Flow::Continue).unwrap();
+        // Drive it, adding up the time.
+        let (mut v, mut heading, mut time, mut way) = (v0, h0, 0u32, Vec::new());
+        while let Some(out) = r.way_out(&map, v, heading) {
+            prop_assert!(arms_at(&map, v).is_some_and(|a| a.has(out)), "no arm");
+            let turns = match heading.turn_to(out) {
+                None => 0,
+                Some(Turn::UTurn) => 2,
+                Some(_) => 1,
+            };
+            time += turns * t.quarter_turn + t.edge;
+            v = neighbour_index(b, v, out).unwrap();
+            heading = out;
+            way.push(v);
+            prop_assert!(way.len() <= area * 4, "the descent loops");
+        }
+        if v0 == g {
+            prop_assert!(way.is_empty());
+        } else if f.dist_at(g).is_some() {
+            prop_assert_eq!(v, g);
+            prop_assert_eq!(Some(time), f.dist_at(g));
+        } else {
+            prop_assert!(way.is_empty());
+        }
+        // Walked and marked answers agree for every node.
+        let walked: Vec<bool> = (0..area).map(|x| r.descent_passes(&map, v0, h0, x)).collect();
+        for (x, &p) in walked.iter().enumerate() {
+            prop_assert_eq!(p, way.contains(&x) && (v == g), "node {}", x);
+        }
+        r.mark_descent(&map, v0, h0);
+        for (x, &p) in walked.iter().enumerate() {
+            prop_assert_eq!(r.descent_passes(&map, v0, h0, x), p);
+        }
+        // Marks of another pose replace them cleanly.
+        r.mark_descent(&map, g, Heading::North);
+        for x in 0..area {
+            prop_assert!(!r.descent_passes(&map, g, Heading::North, x));
+        }
     }
 }

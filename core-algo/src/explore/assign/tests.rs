@@ -93,6 +93,16 @@ proptest! {
         let best = total(&hungarian_cols(&all, AssignmentObjective::MinSum), &all.nodes, &full);
         let got = total(&hungarian_cols(&c, AssignmentObjective::MinSum), &c.nodes, &full);
         prop_assert_eq!(got, best);
+        // The decider's field is its own search, and it reaches every node
+        // the decider may be given: tempo takes the way from it.
+        let (mine, r) = (me % k, &robots[me % k]);
+        prop_assert!(c.m == 0 || fields[mine].is_search_from(&map, timing, r.pos, r.heading));
+        for col in 0..c.m {
+            if c.cost[mine][col] < INF {
+                let d = fields[mine].dist_at(c.nodes[col]);
+                prop_assert_eq!(d.and_then(|d| cost(mine, c.nodes[col], d)), full[mine][c.nodes[col]]);
+            }
+        }
         // The collected costs are the true ones where present.
         for j in 0..k {
             for col in 0..c.m {

@@ -1,0 +1,178 @@
+//! Ways read from a reverse field: see [`DistField::way_out`].
+//!
+//! A reverse field (`DistField::compute_reverse`) holds, for every pose,
+//! the cheapest time to its goal. Rooted at a robot's home on a complete
+//! map it never changes again, so every robot's way home, and every team
+//! mate's, is read from one search kept for the rest of the run, however
+//! often the robots move: a forward field from where a robot stands had to
+//! be grown again after every step (a third of a 16-robot run on open
+//! 256², docs/results/performance.md).
+
+use super::{DistField, Marked, ON_WAY, PlanCell, arms_at, neighbour_index, searchable};
+use crate::geometry::{Heading, Pos, Turn};
+use crate::map::{Block, KnownMap};
+use crate::timing::Timing;
+
+impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
+    /// Whether this field is a completed reverse search to `goal` over
+    /// `map` as it is now, with `timing`.
+    pub fn is_reverse_to<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        goal: Pos,
+    ) -> bool {
+        let bounds = map.bounds();
+        self.bounds == bounds
+            && self.timing == searchable(timing)
+            && bounds
+                .index(goal)
+                .is_some_and(|g| self.reverse == Some((g, map.revision())))
+    }
+
+    /// The heading in which a robot standing on node `v` facing `heading`
+    /// leaves it on a cheapest way to the goal of this reverse field;
+    /// `None` at the goal, where the goal cannot be reached, or when the
+    /// field is no completed reverse search of `map`. Of equally cheap
+    /// ways it takes straight on first, then a left, a right and a U-turn,
+    /// so that every robot reading the same field predicts the same way.
+    pub fn way_out<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        v: usize,
+        heading: Heading,
+    ) -> Option<Heading> {
+        let (goal, revision) = self.reverse?;
+        if v == goal || revision != map.revision() {
+            return None;
+        }
+        let cells = self.cells.as_ref();
+        let d = cells.get(v)?.pose_dist(usize::from(heading.index()))?;
+        let arms = arms_at(map, v)?;
+        let t = self.timing;
+        [
+            (heading, 0u32),
+            (heading.turned(Turn::Left), 1),
+            (heading.turned(Turn::Right), 1),
+            (heading.opposite(), 2),
+        ]
+        .into_iter()
+        .find_map(|(out, turns)| {
+            let w = neighbour_index(self.bounds, v, out).filter(|_| arms.has(out))?;
+            let dw = cells.get(w)?.pose_dist(usize::from(out.index()))?;
+            (dw + t.edge + turns * t.quarter_turn == d).then_some(out)
+        })
+    }
+
+    /// Follows [`DistField::way_out`] from the pose (`v`, `heading`),
+    /// calling `step(node)` for every node driven into, the goal last;
+    /// stops early when `step` says so. Whether the walk ended at the goal
+    /// or was stopped.
+    fn walk_descent<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        mut v: usize,
+        mut heading: Heading,
+        mut step: impl FnMut(usize) -> bool,
+    ) -> bool {
+        let goal = self.reverse.map(|(g, _)| g);
+        for _ in 0..self.bounds.area().saturating_add(1) {
+            if Some(v) == goal {
+                return true;
+            }
+            let Some(w) = self
+                .way_out(map, v, heading)
+                .and_then(|out| Some((neighbour_index(self.bounds, v, out)?, out)))
+            else {
+                return false;
+            };
+            (v, heading) = w;
+            if !step(v) {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Whether the way from the pose (`v`, `heading`) to the goal (see
+    /// [`DistField::way_out`]) drives into node `via`. O(1) while that way
+    /// is marked ([`DistField::mark_descent`]), else a walk along it.
+    pub fn descent_passes<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        v: usize,
+        heading: Heading,
+        via: usize,
+    ) -> bool {
+        let state = v * 4 + usize::from(heading.index());
+        if self.way == Some((Marked::Descent(state), map.revision())) {
+            return self
+                .cells
+                .as_ref()
+                .get(via)
+                .is_some_and(|c| c.ring_b & ON_WAY != 0);
+        }
+        let mut hit = false;
+        self.walk_descent(map, v, heading, |w| {
+            hit = w == via;
+            !hit
+        });
+        hit
+    }
+
+    /// Marks the way from the pose (`v`, `heading`) to the goal, so that
+    /// [`DistField::descent_passes`] answers for it in O(1) until the field
+    /// or the map changes (as [`DistField::mark_way`] does for a forward
+    /// field). Returns whether the way reaches the goal.
+    pub fn mark_descent<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        v: usize,
+        heading: Heading,
+    ) -> bool {
+        let state = v * 4 + usize::from(heading.index());
+        if self.way == Some((Marked::Descent(state), map.revision())) {
+            return true;
+        }
+        self.unmark_way(map);
+        if !self.set_descent_bits(map, state, true) {
+            self.set_descent_bits(map, state, false);
+            return false;
+        }
+        self.way = Some((Marked::Descent(state), map.revision()));
+        true
+    }
+
+    /// Sets or clears the mark on every node driven into on the way from
+    /// `state` (node × 4 + heading); whether it reached the goal. Its own
+    /// loop, not `walk_descent`: it writes the cells it walks.
+    pub(super) fn set_descent_bits<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        state: usize,
+        on: bool,
+    ) -> bool {
+        let goal = self.reverse.map(|(g, _)| g);
+        let (mut v, mut heading) = (state / 4, Heading::from_index((state % 4) as u8));
+        for _ in 0..self.bounds.area().saturating_add(1) {
+            if Some(v) == goal {
+                return true;
+            }
+            let Some((w, out)) = self
+                .way_out(map, v, heading)
+                .and_then(|out| Some((neighbour_index(self.bounds, v, out)?, out)))
+            else {
+                return false;
+            };
+            if let Some(c) = self.cells.as_mut().get_mut(w) {
+                if on {
+                    c.ring_b |= ON_WAY;
+                } else {
+                    c.ring_b &= !ON_WAY;
+                }
+            }
+            (v, heading) = (w, out);
+        }
+        false
+    }
+}
