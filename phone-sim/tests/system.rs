@@ -172,6 +172,30 @@ fn robots_swapped_in_a_corridor_push_through() {
     }
 }
 
+/// A retreat spot whose way home runs through the home of a team mate
+/// that fills first is a trap: once that team mate is in, the robot cannot
+/// get out, and the two dance at the homes for ever. Hunt seed 9278
+/// (`examples/homecoming_hunt.rs`, strategy `seed`) stalled so until stop
+/// 21; retreat spots now skip such traps as the homecoming's waiting spots
+/// do.
+#[test]
+fn a_retreat_spot_behind_an_earlier_home_is_a_trap() {
+    let (w, h, seed, robots) = (11, 5, 9278, 6);
+    let f = Kind::Random.generate(w, h, seed);
+    let mut config = SimConfig {
+        seed,
+        ..SimConfig::default()
+    };
+    config.faults.channel.latency_ms = 15;
+    config.faults.channel.jitter_ms = 7;
+    let (o, sim) = run(&f, robots.min(f.starts().len()), "seed", config);
+    assert_sound(
+        &o,
+        &sim,
+        &format!("{} with {robots} robots, seed", f.name()),
+    );
+}
+
 /// A robot that made way for a team mate with a deeper home follows it
 /// once it is ahead on the way home, instead of standing until it is home
 /// and then driving the same long way alone. On the demo field (rooms, the

@@ -87,6 +87,15 @@ where
     fn retreat_spot(&mut self, goal: usize, from: Pos) -> Option<(Pos, Option<Pos>)> {
         let bounds = self.map.bounds();
         let blocked = bounds.index(from)?;
+        // Homes of team mates that fill before ours: a spot whose way home
+        // runs through one is a trap once that team mate is in (as in
+        // `keep_out_of_the_way`).
+        let earlier: Vec<usize, MAX_ROBOTS> = (0..self.peers.len())
+            .filter(|&i| self.goes_first(i))
+            .filter_map(|i| self.peers.get(i))
+            .filter(|q| q.known && !q.failed)
+            .filter_map(|q| bounds.index(q.home))
+            .collect();
         let (me, map, peers) = (self.id.index(), &self.map, &self.peers);
         let timing = self.config.timing;
         let (theirs, rest) = self.fields.split_first_mut()?;
@@ -113,7 +122,9 @@ where
             v != blocked
                 && !theirs.path_passes(map, goal, v)
                 && !claimed(v)
-                && !homeward.as_mut().is_some_and(|f| f.passes(map, v, goal))
+                && !homeward.as_mut().is_some_and(|f| {
+                    f.passes(map, v, goal) || earlier.iter().any(|&h| f.path_passes(map, v, h))
+                })
         };
         let pose = (self.pos, self.heading);
         let mut first = true;
