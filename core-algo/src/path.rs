@@ -1056,17 +1056,41 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         map: &KnownMap<M>,
         target: usize,
     ) -> bool {
-        if self.way == Some((Marked::Way(target), map.revision())) {
+        self.mark(map, Marked::Way(target))
+    }
+
+    /// Marks `marked` (see [`DistField::mark_way`]) unless it is marked
+    /// already; whether its walk reached its end.
+    fn mark<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        marked: Marked,
+    ) -> bool {
+        if self.way == Some((marked, map.revision())) {
             return true;
         }
         self.unmark_way(map);
-        if !self.set_way_bits(map, target, true) {
+        if !self.set_marks(map, marked, true) {
             // Not reached (or the walk broke off): clear what was set.
-            self.set_way_bits(map, target, false);
+            self.set_marks(map, marked, false);
             return false;
         }
-        self.way = Some((Marked::Way(target), map.revision()));
+        self.way = Some((marked, map.revision()));
         true
+    }
+
+    /// Sets or clears the marks along `marked`; whether its walk reached
+    /// its end.
+    fn set_marks<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        marked: Marked,
+        on: bool,
+    ) -> bool {
+        match marked {
+            Marked::Way(target) => self.set_way_bits(map, target, on),
+            Marked::Descent(state) => self.set_descent_bits(map, state, on),
+        }
     }
 
     /// Whether the cheapest path to node `v` drives through node `via`,
@@ -1171,14 +1195,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             return;
         };
         if revision == map.revision() {
-            match marked {
-                Marked::Way(target) => {
-                    self.set_way_bits(map, target, false);
-                }
-                Marked::Descent(state) => {
-                    self.set_descent_bits(map, state, false);
-                }
-            }
+            self.set_marks(map, marked, false);
         } else {
             // The map changed, so the walk back might take another way:
             // clear every settled cell.

@@ -130,17 +130,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         v: usize,
         heading: Heading,
     ) -> bool {
-        let state = v * 4 + usize::from(heading.index());
-        if self.way == Some((Marked::Descent(state), map.revision())) {
-            return true;
-        }
-        self.unmark_way(map);
-        if !self.set_descent_bits(map, state, true) {
-            self.set_descent_bits(map, state, false);
-            return false;
-        }
-        self.way = Some((Marked::Descent(state), map.revision()));
-        true
+        self.mark(map, Marked::Descent(v * 4 + usize::from(heading.index())))
     }
 
     /// Sets or clears the mark on every node driven into on the way from
