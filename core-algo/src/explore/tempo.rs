@@ -10,15 +10,19 @@
 //! could be among a node's cheapest (`Candidates::cheapest`; no optimal
 //! assignment is lost, see `assign`). A robot left
 //! without a share trails to its nearest frontier node if that is at most 8
-//! edges away (in a team of at most six), else *waits where it stands*: it
-//! decides again whenever the map grows, and goes home once nothing is
-//! left. (Driving home at once was measured too: it loses on mazes, where
+//! edges away, or at any distance in a sparse team (at least 48 nodes of
+//! the map window per robot), in a team of at most six; else it *waits
+//! where it stands*: it decides again whenever the map grows, and goes home
+//! once nothing is left. (Driving home at once was measured too: it loses on mazes, where
 //! idle robots are soon needed again. Trailing without a limit lost in the
 //! system simulator until retreats could push through a team mate: robots
 //! that followed each other jammed, and a homecoming deadlocked twice as
 //! often. Near trailing now gains 3.6 % on small fields, is even on 32² to
 //! 64² ones, and loses 4–8 % on open 128² and 256² fields with 16 robots,
-//! where it also doubles the wall time; hence the team limit.)
+//! where it also doubles the wall time; hence the team limit. Trailing any
+//! distance gains 2 % on 16² and 32² fields, 7 % on 32² mazes, but loses
+//! 8 % in 12² mazes with five or six robots, where trailers jam; hence the
+//! density rule.)
 //!
 //! Every candidate's cost is lowered by a quarter of its distance from the
 //! robot's home (Manhattan, in edges): of two frontier nodes about as far
@@ -67,6 +71,11 @@ pub struct TempoConfig {
     /// ...while the team has at most this many robots: beyond, idle robots
     /// wait (see the module docs).
     pub trail_team: usize,
+    /// A team with at least this many nodes of the map window per robot
+    /// trails any distance, not only `trail_edges` (0: never): in a sparse
+    /// team trailers rarely jam, and in a large maze the work is often far
+    /// down a corridor.
+    pub trail_far_nodes_per_robot: u32,
     /// Teams of at most this many robots collect every robot's k cheapest
     /// frontier nodes; larger ones start from 4 each and prove the
     /// assignment optimal, growing picks where the proof fails (see
@@ -86,6 +95,15 @@ pub struct TempoConfig {
     pub home_pull_pct: u32,
 }
 
+impl TempoConfig {
+    /// Whether a team of `robots` on a map window of `area` nodes trails
+    /// any distance (see `trail_far_nodes_per_robot`).
+    fn trails_far(&self, area: usize, robots: usize) -> bool {
+        let per_robot = area / robots.max(1);
+        self.trail_far_nodes_per_robot > 0 && per_robot >= self.trail_far_nodes_per_robot as usize
+    }
+}
+
 impl Default for TempoConfig {
     fn default() -> Self {
         TempoConfig {
@@ -96,6 +114,7 @@ impl Default for TempoConfig {
             idle_stay: true,
             trail_edges: 8,
             trail_team: 6,
+            trail_far_nodes_per_robot: 48,
             eager_team: 6,
             spread: 0,
             squared: false,
@@ -292,8 +311,12 @@ where
                 Ok(d)
             }
             None if self.config.idle_stay => {
-                let limit = self.config.trail_edges.saturating_mul(ctx.timing.edge);
-                if limit > 0 && ctx.robots.len() <= self.config.trail_team {
+                let limit = if cfg.trails_far(ctx.map.bounds().area(), k) {
+                    Ticks::MAX
+                } else {
+                    cfg.trail_edges.saturating_mul(ctx.timing.edge)
+                };
+                if limit > 0 && k <= cfg.trail_team {
                     if let Some((i, d)) = super::cheapest_frontier(ctx, f, |_, _, _| Some(0))? {
                         if d <= limit {
                             return Ok(explore_decision(ctx, f, i));

@@ -174,7 +174,11 @@ proptest! {
         let timing = Timing::DEFAULT;
         let mut fields = fresh_fields(area, k);
         // Without trailing a robot with no share waits.
-        let config = TempoConfig { trail_edges: 0, ..TempoConfig::default() };
+        let config = TempoConfig {
+            trail_edges: 0,
+            trail_far_nodes_per_robot: 0,
+            ..TempoConfig::default()
+        };
         let mut tempo = Tempo::new(config);
         let mut decide = |tempo: &mut Tempo, robots: &[RobotView], j: usize| {
             let ctx = Context { map: &map, timing, robots, me: j };
@@ -255,4 +259,53 @@ fn a_new_node_ends_the_commitment() {
     let d = tempo.decide(&ctx, &mut fields).unwrap();
     assert_eq!(d.goal, Goal::Frontier(Pos::new(1, 0)));
     assert_eq!(d.next, Some(Heading::West));
+}
+
+/// A robot without a share trails to a far frontier node only in a sparse
+/// team (enough of the map window per robot), and waits in a crowded one.
+#[test]
+fn a_sparse_team_trails_far_and_a_crowded_one_waits() {
+    // A corridor x = 2..=60, a dead end at 2, the only frontier node at 61;
+    // the window is 100 nodes, 50 per robot.
+    let b = crate::map::Bounds::new(Pos::new(0, 0), 100, 1);
+    let mut map = KnownMap::new(vec![Block::EMPTY; crate::map::blocks_for(b.area())], b).unwrap();
+    let line = crate::geometry::Arms::NONE
+        .with(Heading::East)
+        .with(Heading::West);
+    let end = crate::geometry::Arms::NONE.with(Heading::East);
+    map.visit(Pos::new(2, 0), end, crate::team::RobotId(0))
+        .unwrap();
+    for x in 3..=60 {
+        map.visit(Pos::new(x, 0), line, crate::team::RobotId(0))
+            .unwrap();
+    }
+    let robot = |x: i16| RobotView {
+        pos: Pos::new(x, 0),
+        heading: Heading::East,
+        eta: 0,
+        home: Pos::new(x, 0),
+        target: None,
+    };
+    // Robot 0 stands next to the frontier node and takes it; robot 1 is
+    // 51 edges away, far beyond `trail_edges`.
+    let robots = [robot(60), robot(10)];
+    let decide = |per_robot: u32| {
+        let mut fields = fresh_fields(b.area(), 2);
+        let mut tempo = Tempo::new(TempoConfig {
+            trail_far_nodes_per_robot: per_robot,
+            ..TempoConfig::default()
+        });
+        let ctx = Context {
+            map: &map,
+            timing: Timing::DEFAULT,
+            robots: &robots,
+            me: 1,
+        };
+        tempo.decide(&ctx, &mut fields).unwrap()
+    };
+    let sparse = decide(48);
+    assert_eq!(sparse.goal, Goal::Frontier(Pos::new(61, 0)));
+    assert_eq!(sparse.next, Some(Heading::East));
+    assert_eq!(decide(51).goal, Goal::Wait);
+    assert_eq!(decide(0).goal, Goal::Wait);
 }
