@@ -245,6 +245,9 @@ pub struct Report {
     /// Until the phone's map was complete, seconds (the rest of the
     /// makespan is the way home; `null`: the map never was).
     pub mapped_s: Option<f64>,
+    /// The run was given up at its time limit (`--max-time-s`) before the
+    /// team was done.
+    pub timed_out: bool,
     /// Lower bound with return to the starts (edge time only), seconds.
     pub lower_bound_s: f64,
     /// makespan / lower bound.
@@ -404,8 +407,23 @@ fn max_time_ms(field: &Field, robots: usize, a: &ExploreArgs) -> u32 {
             room
         }
     });
-    (secs * 1000.0).clamp(1000.0, f64::from(u32::MAX / 2)) as u32
+    if secs * 1000.0 > f64::from(MAX_SIM_MS) {
+        eprintln!(
+            "warning: {} s of simulated time asked for (five times the lower bound, or \
+             --max-time-s), but the simulator's clock holds {} s ({:.1} days): a run that \
+             needs longer stops there, incomplete",
+            secs.round(),
+            MAX_SIM_MS / 1000,
+            f64::from(MAX_SIM_MS) / 86_400_000.0
+        );
+    }
+    (secs * 1000.0).clamp(1000.0, f64::from(MAX_SIM_MS)) as u32
 }
+
+/// The longest run the simulator's millisecond clock holds (u32, with
+/// room for wrapping arithmetic on times): about 24.8 days, which a 1024²
+/// maze explored by one robot needs more than.
+const MAX_SIM_MS: u32 = u32::MAX / 2;
 
 /// The lower bound of the makespan with return home (edge time only) for
 /// the first `k` start poses of `field` at `timing`, seconds.
@@ -431,6 +449,7 @@ pub fn report(field: &Field, a: &ExploreArgs, timing: Timing, o: &Outcome, wall_
         all_home: o.all_home,
         makespan_s,
         mapped_s: o.mapped_ms.map(|ms| f64::from(ms) / 1000.0),
+        timed_out: o.timed_out,
         lower_bound_s,
         ratio: makespan_s / lower_bound_s.max(f64::MIN_POSITIVE),
         messages: o.messages,
@@ -494,6 +513,13 @@ pub fn run(a: &ExploreArgs) -> Result<(), CliError> {
         return crate::qemu::run(&field, a);
     }
     let (sim, outcome, wall) = simulate(&field, a)?;
+    if outcome.timed_out {
+        eprintln!(
+            "warning: the run was given up at its time limit, {:.0} s of simulated time, \
+             before the team was done (raise it with --max-time-s)",
+            f64::from(outcome.makespan_ms) / 1000.0
+        );
+    }
     let r = report(&field, a, sim.bodies().timing(), &outcome, wall);
     finish(&field, a, sim.env(), sim.bodies(), &r, sim.true_to_team())
 }

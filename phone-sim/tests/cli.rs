@@ -275,3 +275,43 @@ fn generate_packs_starts_and_explore_refuses_teams_beyond_the_planner() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("at most 16"), "{err}");
 }
+
+/// A run given up at its time limit says so, on stderr and in the JSON,
+/// and a limit beyond the simulator's clock is cut with a warning, not
+/// silently.
+#[test]
+fn a_run_cut_by_its_time_limit_says_so() {
+    let field = fields_dir().join("small/open-6x6.field");
+    let field = field.to_str().unwrap();
+    let run = |limit: &str| {
+        let out = conquest(&[
+            "explore",
+            field,
+            "--robots",
+            "2",
+            "--max-time-s",
+            limit,
+            "--json",
+        ]);
+        assert!(out.status.success());
+        let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        (r, String::from_utf8_lossy(&out.stderr).into_owned())
+    };
+    let (r, err) = run("5");
+    assert_eq!(
+        (&r["complete"], &r["timed_out"]),
+        (&false.into(), &true.into()),
+        "{r}"
+    );
+    assert!(err.contains("given up at its time limit"), "{err}");
+    let (r, err) = run("3600");
+    assert_eq!(
+        (&r["complete"], &r["timed_out"]),
+        (&true.into(), &false.into()),
+        "{r}"
+    );
+    assert!(err.is_empty(), "{err}");
+    let (r, err) = run("1e7");
+    assert_eq!(r["complete"], true, "{r}");
+    assert!(err.contains("the simulator's clock holds"), "{err}");
+}

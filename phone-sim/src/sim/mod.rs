@@ -523,6 +523,7 @@ impl Simulation {
         );
         o.localization = self.config.localize.map(|_| self.localization());
         o.mapped_ms = self.mapped_at;
+        o.timed_out = self.done_at.is_none() && self.now >= self.config.max_time_ms;
         o
     }
 }
@@ -582,6 +583,7 @@ pub fn outcome_of(
         unhandled: stats.unhandled,
         localization: None,
         mapped_ms: None,
+        timed_out: false,
     }
 }
 
@@ -689,4 +691,6 @@ pub struct Outcome {
     /// When the phone's merged map first had no frontier left, ms (`None`:
     /// never, or not tracked). The rest of the makespan is the way home.
     pub mapped_ms: Option<u32>,
+    /// The run reached `SimConfig::max_time_ms` before the team was done.
+    pub timed_out: bool,
 }
