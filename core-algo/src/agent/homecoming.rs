@@ -388,6 +388,15 @@ where
         }
         plan(false, &mut pending, rest);
         mark_ways(&pending, rest, map);
+        // The spots are searched in a spare field past every team mate's
+        // slot where there is one: the first field holds the way home a
+        // strategy keeps (`explore::go_home`), which a search here would
+        // throw away at every step of a gated robot.
+        let (rest, spare) = rest.split_at_mut(MAX_ROBOTS.min(rest.len()));
+        let mine = match spare.first_mut() {
+            Some(f) => f,
+            None => mine,
+        };
         let rest = &*rest;
         let on_someones_way = |v: usize| {
             pending.iter().any(|&(s, (at, h), _)| {

@@ -38,8 +38,10 @@ impl Strategy<Vec<Block>, Vec<PlanCell>> for BoxedStrategy {
 /// Planner fields of a host-side agent: one per robot of a team of up to
 /// [`MAX_ROBOTS`], so that centralised strategies plan for everyone, and
 /// one more, so that the homecoming's kept ways of team mates never share
-/// the field a strategy plans our own way in (see `agent::homecoming`).
-pub const HOST_FIELDS: usize = MAX_ROBOTS + 1;
+/// the field a strategy plans our own way in, and one for the homecoming's
+/// waiting spots, so that searching them does not throw away the way home
+/// a strategy keeps in the first field (see `agent::homecoming`).
+pub const HOST_FIELDS: usize = MAX_ROBOTS + 2;
 
 /// The agent type every host-side robot runs.
 pub type HostAgent = Agent<Vec<Block>, Vec<PlanCell>, BoxedStrategy, HOST_FIELDS>;
