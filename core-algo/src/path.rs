@@ -439,7 +439,25 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             }
             Some(_) => false,
         };
-        let base = c.base & DIST_MASK;
+        let mut base = c.base & DIST_MASK;
+        if key < base {
+            // Only A* with a heuristic that differs between a node's
+            // headings (`astar_by_landmark`) settles a cheaper heading
+            // after a dearer one: the node's distance moves down to it and
+            // the settled offsets up (still within a U-turn, so within a
+            // byte). Tentative offsets of unsettled headings only spare
+            // A* duplicate heap entries; they are dropped.
+            let shift = base - key;
+            for (k, o) in c.off.iter_mut().enumerate() {
+                *o = if c.base & (1 << (SETTLED_SHIFT + k as u32)) != 0 {
+                    (u32::from(*o) + shift).min(u32::from(NO_OFF - 1)) as u8
+                } else {
+                    NO_OFF
+                };
+            }
+            c.base = (c.base & !DIST_MASK) | key;
+            base = key;
+        }
         let off = key.saturating_sub(base).min(u32::from(NO_OFF - 1)) as u8;
         if let Some(o) = c.off.get_mut(h) {
             *o = off;
@@ -808,7 +826,12 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         heading: Heading,
         goal: Pos,
     ) -> Result<Option<Ticks>, PlanError> {
-        match self.astar_heap(map, timing, start, heading, goal) {
+        let w = usize::from(map.bounds().width);
+        let g = map.bounds().index(goal);
+        let edge = searchable(timing).edge;
+        let manhattan =
+            |i: usize, _| g.map_or(0, |g| index_manhattan(w, i, g).saturating_mul(edge));
+        match self.astar_heap(map, timing, start, heading, goal, manhattan) {
             Err(PlanError::QueueFull) => {
                 let Some(g) = map.bounds().index(goal) else {
                     return Ok(None);
@@ -820,6 +843,68 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         }
     }
 
+    /// [`DistField::astar`] guided by `landmark`, a completed reverse field
+    /// (see [`DistField::compute_reverse`]) of the same map: the heuristic
+    /// of a pose is how much farther from the landmark's goal it is than
+    /// the goal node is (the triangle inequality of the ALT method), which
+    /// is admissible and consistent pose by pose. Where the way runs
+    /// towards the landmark's goal, as a robot's way to a waiting spot near
+    /// its home does, the search settles little more than the way itself;
+    /// Manhattan distance, by contrast, knows nothing of a maze's walls.
+    /// Falls back to Manhattan distance when `landmark` is no completed
+    /// reverse search of `map`.
+    pub fn astar_by_landmark<M, L>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        start: Pos,
+        heading: Heading,
+        goal: Pos,
+        landmark: &DistField<L>,
+    ) -> Result<Option<Ticks>, PlanError>
+    where
+        M: AsRef<[Block]> + AsMut<[Block]>,
+        L: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+    {
+        let guide = landmark.reverse.filter(|&(_, rev)| {
+            rev == map.revision()
+                && landmark.bounds == map.bounds()
+                && landmark.timing == searchable(timing)
+        });
+        let Some(cells) = guide.and_then(|_| {
+            let i = map.bounds().index(goal)?;
+            landmark.cells.as_ref().get(i)
+        }) else {
+            return self.astar(map, timing, start, heading, goal);
+        };
+        // The goal's farthest pose from the landmark's goal: whatever the
+        // heading the way arrives with, the rest is at least this much
+        // shorter than from a pose p: h(p) = max(0, L(p) − L_max(goal)).
+        // A goal the landmark's field does not reach (a frontier node)
+        // gives no bound.
+        let Some(far) = (0..4).filter_map(|h| cells.pose_dist(h)).max() else {
+            return self.astar(map, timing, start, heading, goal);
+        };
+        let lm = landmark.cells.as_ref();
+        let hfn = |i: usize, h: usize| {
+            lm.get(i)
+                .and_then(|c| c.pose_dist(h))
+                .map_or(0, |d| d.saturating_sub(far))
+        };
+        match self.astar_heap(map, timing, start, heading, goal, hfn) {
+            Err(PlanError::QueueFull) => {
+                let Some(g) = map.bounds().index(goal) else {
+                    return Ok(None);
+                };
+                self.compute_to(map, timing, start, heading, g)?;
+                Ok(self.dist_at(g))
+            }
+            other => other,
+        }
+    }
+
+    /// A* with the heuristic `hfn(node, heading)`, admissible and
+    /// consistent over the turn-aware moves.
     fn astar_heap<M: AsRef<[Block]> + AsMut<[Block]>>(
         &mut self,
         map: &KnownMap<M>,
@@ -827,6 +912,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         start: Pos,
         heading: Heading,
         goal: Pos,
+        hfn: impl Fn(usize, usize) -> Ticks,
     ) -> Result<Option<Ticks>, PlanError> {
         self.tree = None;
         let s0 = self.prepare(map, timing, start, heading)?;
@@ -835,19 +921,14 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         };
         let t = self.timing;
         let bounds = self.bounds;
-        let w = usize::from(bounds.width);
-        let hfn = |i: usize| index_manhattan(w, i, g).saturating_mul(t.edge);
         let mut heap = Heap { len: 0 };
-        // Entries: (f, state); the g of a popped entry is f − h(node).
-        heap.push(
-            self.cells.as_mut(),
-            hfn(s0),
-            (s0 * 4 + usize::from(heading.index())) as u32,
-        )?;
+        // Entries: (f, state); the g of a popped entry is f − h(state).
+        let h0 = usize::from(heading.index());
+        heap.push(self.cells.as_mut(), hfn(s0, h0), (s0 * 4 + h0) as u32)?;
         while let Some((f, state)) = heap.pop(self.cells.as_mut()) {
             let state = state as usize;
             let (v, h) = (state / 4, state % 4);
-            let d = f.saturating_sub(hfn(v));
+            let d = f.saturating_sub(hfn(v, h));
             let Some(_) = self.settle(v, h, d) else {
                 continue;
             };
@@ -862,7 +943,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                 if let Some(nb) = neighbour_index(bounds, v, hd) {
                     let cells = self.cells.as_mut();
                     if !cells.get(nb).is_some_and(|c| c.settled(h)) {
-                        heap.push(cells, d + t.edge + hfn(nb), (nb * 4 + h) as u32)?;
+                        heap.push(cells, d + t.edge + hfn(nb, h), (nb * 4 + h) as u32)?;
                     }
                 }
             }
@@ -883,7 +964,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                 }
                 *o = off as u8;
                 if let Some(p) = pushes.get_mut(k) {
-                    *p = Some((base + off + hfn(v), (v * 4 + h2) as u32));
+                    *p = Some((base + off + hfn(v, h2), (v * 4 + h2) as u32));
                 }
             }
             for (key, s) in pushes.into_iter().flatten() {

@@ -393,11 +393,21 @@ where
         // strategy keeps (`explore::go_home`), which a search here would
         // throw away at every step of a gated robot.
         let (rest, spare) = rest.split_at_mut(MAX_ROBOTS.min(rest.len()));
-        let mine = match spare.first_mut() {
-            Some(f) => f,
-            None => mine,
+        let (mine, first) = match spare.first_mut() {
+            Some(f) => (f, Some(&*mine)),
+            None => (mine, None),
         };
         let rest = &*rest;
+        // The way home the strategy keeps (a reverse field rooted at our
+        // home, see `explore::go_home`) guides the search of the way to a
+        // spot near home: far from home, that way runs along the way home,
+        // and a plain search from where we stand grew over everything
+        // nearer than the spot (most of a gated robot's time in a maze).
+        let home = self.home;
+        let landmark = first
+            .into_iter()
+            .chain(rest.iter())
+            .find(|f| f.is_reverse_to(map, timing, home));
         let on_someones_way = |v: usize| {
             pending.iter().any(|&(s, (at, h), _)| {
                 rest.get(s).is_some_and(|f| f.descent_passes(map, at, h, v))
@@ -462,9 +472,12 @@ where
                 spot = None;
             };
             let computed = match (found, spot) {
-                (Ok(()), Some(v)) if bounds.index(pos) != Some(v) => {
-                    mine.compute_to(map, timing, pos, heading, v)
-                }
+                (Ok(()), Some(v)) if bounds.index(pos) != Some(v) => match landmark {
+                    Some(l) => mine
+                        .astar_by_landmark(map, timing, pos, heading, bounds.pos(v), l)
+                        .map(|_| ()),
+                    None => mine.compute_to(map, timing, pos, heading, v),
+                },
                 (Ok(()), Some(_)) => return Decision::STAY,
                 (other, _) => other,
             };

@@ -532,3 +532,43 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(96))]
+
+    /// A* guided by a reverse field (any goal, any known part of the map)
+    /// finds the cheapest time to every node, its path costs that much,
+    /// and it settles no more poses than Manhattan-guided A* when the
+    /// landmark is the goal itself.
+    #[test]
+    fn landmark_astar_agrees_with_the_field(
+        w in 1u16..10, h in 1u16..10, seed in any::<u64>(), frac in 0.0f64..1.0, h0 in 0u8..4,
+        mark in any::<usize>(), edge in 1u32..200, turn in 1u32..128,
+    ) {
+        let area = usize::from(w) * usize::from(h);
+        let map = random_known(w, h, seed, (area as f64 * frac) as usize + 1);
+        let t = Timing { edge, quarter_turn: turn };
+        let b = map.bounds();
+        let mut f = field_for(area);
+        f.compute(&map, t, Pos::new(0, 0), Heading::from_index(h0), |_, _| Flow::Continue).unwrap();
+        let mut landmark = field_for(area);
+        landmark.compute_reverse(&map, t, b.pos(mark % area), |_, _, _| Flow::Continue).unwrap();
+        let mut a = field_for(area);
+        for v in 0..area {
+            let got = a
+                .astar_by_landmark(&map, t, Pos::new(0, 0), Heading::from_index(h0), b.pos(v), &landmark)
+                .unwrap();
+            prop_assert_eq!(got, f.dist_at(v), "node {}", v);
+            if let Some(d) = got {
+                // The path drives through known nodes only, ends at v, and
+                // its edges and turns add up to no more than the cost.
+                let mut out = vec![Pos::new(0, 0); area + 1];
+                let n = a.path(&map, v, &mut out).unwrap();
+                prop_assert_eq!(out[n - 1], b.pos(v));
+                prop_assert!(n as u32 - 1 <= d / t.edge);
+                let first = a.first_heading(&map, v);
+                prop_assert_eq!(first.is_none(), v == 0);
+            }
+        }
+    }
+}
