@@ -479,9 +479,8 @@ where
             let computed = match (found, spot) {
                 (Ok(()), Some(v)) if bounds.index(pos) != Some(v) => {
                     // Guided only from afar: near the spot the bound says
-                    // little, and a heap costs more than the plain search's
-                    // two FIFOs (maze 64², 16 robots: 5 % slower guided
-                    // everywhere).
+                    // little, and a heap step costs more than one of the
+                    // plain search's two FIFOs.
                     let spot = bounds.pos(v);
                     let guide = landmark.filter(|l| {
                         let at_spot = Heading::ALL
@@ -490,7 +489,8 @@ where
                             .max();
                         match (l.dist_pose(pos, heading), at_spot) {
                             (Some(here), Some(there)) => {
-                                here > there.saturating_add(GUIDED_FROM_EDGES * timing.edge)
+                                here > there
+                                    .saturating_add(GUIDED_FROM_EDGES.saturating_mul(timing.edge))
                             }
                             _ => false,
                         }
