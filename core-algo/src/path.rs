@@ -831,16 +831,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let edge = searchable(timing).edge;
         let manhattan =
             |i: usize, _| g.map_or(0, |g| index_manhattan(w, i, g).saturating_mul(edge));
-        match self.astar_heap(map, timing, start, heading, goal, manhattan) {
-            Err(PlanError::QueueFull) => {
-                let Some(g) = map.bounds().index(goal) else {
-                    return Ok(None);
-                };
-                self.compute_to(map, timing, start, heading, g)?;
-                Ok(self.dist_at(g))
-            }
-            other => other,
-        }
+        self.astar_with(map, timing, start, heading, goal, manhattan)
     }
 
     /// [`DistField::astar`] guided by `landmark`, a completed reverse field
@@ -891,6 +882,21 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                 .and_then(|c| c.pose_dist(h))
                 .map_or(0, |d| d.saturating_sub(far))
         };
+        self.astar_with(map, timing, start, heading, goal, hfn)
+    }
+
+    /// A* with the heuristic `hfn` (see `astar_heap`), finished by the
+    /// FIFO Dijkstra of [`DistField::compute_to`] when the heap outgrows
+    /// the scratch (see [`DistField::astar`]).
+    fn astar_with<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        start: Pos,
+        heading: Heading,
+        goal: Pos,
+        hfn: impl Fn(usize, usize) -> Ticks,
+    ) -> Result<Option<Ticks>, PlanError> {
         match self.astar_heap(map, timing, start, heading, goal, hfn) {
             Err(PlanError::QueueFull) => {
                 let Some(g) = map.bounds().index(goal) else {
