@@ -1156,6 +1156,12 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         if self.way == Some((marked, map.revision())) {
             return true;
         }
+        if let (Some((Marked::Descent(from), rev)), Marked::Descent(to)) = (self.way, marked) {
+            if rev == map.revision() && self.unmark_descent_prefix(map, from, to) {
+                self.way = Some((marked, rev));
+                return true;
+            }
+        }
         self.unmark_way(map);
         if !self.set_marks(map, marked, true) {
             // Not reached (or the walk broke off): clear what was set.

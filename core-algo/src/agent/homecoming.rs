@@ -495,6 +495,46 @@ where
                             _ => false,
                         }
                     });
+                    // Far from the spot, our way home may run into a team
+                    // mate before it comes near the spot. Then the spot lies
+                    // beyond that mate unless the spot's own way home passes
+                    // the mate too (the ways home of a kept reverse field
+                    // form a tree): a walk along each way, where a search
+                    // grew as long as the way for every spot tried at every
+                    // step (a gated robot trailing a team mate home across a
+                    // maze tried five spots beyond it at each step).
+                    if let Some((l, at)) = guide.zip(bounds.index(pos)) {
+                        let near = Heading::ALL
+                            .iter()
+                            .filter_map(|&h| l.dist_pose(spot, h))
+                            .max()
+                            .unwrap_or(0)
+                            .saturating_add(GUIDED_FROM_EDGES.saturating_mul(timing.edge));
+                        let ahead = l.descent_find(map, at, heading, |w| {
+                            occupied(w)
+                                || Heading::ALL
+                                    .iter()
+                                    .filter_map(|&h| l.dist_pose(bounds.pos(w), h))
+                                    .min()
+                                    .is_none_or(|d| d <= near)
+                        });
+                        let spot_out = Heading::ALL
+                            .into_iter()
+                            .min_by_key(|&h| l.dist_pose(spot, h).unwrap_or(u32::MAX));
+                        let beyond = ahead.filter(|&b| occupied(b)).is_some_and(|b| {
+                            spot_out
+                                .is_some_and(|h| l.descent_find(map, v, h, |w| w == b).is_none())
+                        });
+                        if beyond {
+                            if unreachable.push(v).is_err() {
+                                return Decision {
+                                    goal: Goal::Home,
+                                    next: l.way_out(map, at, heading),
+                                };
+                            }
+                            continue;
+                        }
+                    }
                     match guide {
                         Some(l) => mine
                             .astar_by_landmark(map, timing, pos, heading, spot, l)

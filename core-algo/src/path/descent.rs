@@ -13,6 +13,11 @@ use crate::geometry::{Heading, Pos, Turn};
 use crate::map::{Block, KnownMap};
 use crate::timing::Timing;
 
+/// How far along a marked way [`DistField::mark_descent`] looks for the
+/// new start before it marks the way afresh: a team mate moves a few
+/// edges between two decisions of ours.
+const MARK_SLIDE: usize = 16;
+
 impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// Whether this field is a completed reverse search to `goal` over
     /// `map` as it is now, with `timing`.
@@ -94,6 +99,26 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         false
     }
 
+    /// The first node driven into on the way from the pose (`v`,
+    /// `heading`) to the goal (see [`DistField::way_out`]) for which
+    /// `pred` holds, if any: a walk along the way, with no search.
+    pub fn descent_find<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        v: usize,
+        heading: Heading,
+        mut pred: impl FnMut(usize) -> bool,
+    ) -> Option<usize> {
+        let mut found = None;
+        self.walk_descent(map, v, heading, |w| {
+            if pred(w) {
+                found = Some(w);
+            }
+            found.is_none()
+        });
+        found
+    }
+
     /// Whether the way from the pose (`v`, `heading`) to the goal (see
     /// [`DistField::way_out`]) drives into node `via`. O(1) while that way
     /// is marked ([`DistField::mark_descent`]), else a walk along it.
@@ -131,6 +156,59 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         heading: Heading,
     ) -> bool {
         self.mark(map, Marked::Descent(v * 4 + usize::from(heading.index())))
+    }
+
+    /// Moves a marked way from state `from` to state `to` (node × 4 +
+    /// heading) where `to` lies a few steps along it, as when a team mate
+    /// drove on along its way home: the way from `to` is the rest of the
+    /// way from `from` (the descent is a function of the pose), so only the
+    /// nodes driven into before `to` lose their mark. No node is driven
+    /// into twice (the time left falls at every step, and a loop back to a
+    /// node costs more than turning there). Whether `to` was found within
+    /// [`MARK_SLIDE`] steps; if not, nothing changed.
+    pub(super) fn unmark_descent_prefix<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        from: usize,
+        to: usize,
+    ) -> bool {
+        let mut state = from;
+        let mut steps = 0;
+        let found = loop {
+            if state == to {
+                break true;
+            }
+            let (v, heading) = (state / 4, Heading::from_index((state % 4) as u8));
+            let Some(next) = (steps < MARK_SLIDE)
+                .then(|| self.way_out(map, v, heading))
+                .flatten()
+                .and_then(|out| {
+                    Some(neighbour_index(self.bounds, v, out)? * 4 + usize::from(out.index()))
+                })
+            else {
+                break false;
+            };
+            state = next;
+            steps += 1;
+        };
+        if !found {
+            return false;
+        }
+        let mut state = from;
+        while state != to {
+            let (v, heading) = (state / 4, Heading::from_index((state % 4) as u8));
+            let Some((w, out)) = self
+                .way_out(map, v, heading)
+                .and_then(|out| Some((neighbour_index(self.bounds, v, out)?, out)))
+            else {
+                return false;
+            };
+            if let Some(c) = self.cells.as_mut().get_mut(w) {
+                c.ring_b &= !ON_WAY;
+            }
+            state = w * 4 + usize::from(out.index());
+        }
+        true
     }
 
     /// Sets or clears the mark on every node driven into on the way from

@@ -495,6 +495,7 @@ proptest! {
         f.compute(&map, t, b.pos(v0), h0, |_, _| Flow::Continue).unwrap();
         // Drive it, adding up the time.
         let (mut v, mut heading, mut time, mut way) = (v0, h0, 0u32, Vec::new());
+        let mut poses = Vec::new();
         while let Some(out) = r.way_out(&map, v, heading) {
             prop_assert!(arms_at(&map, v).is_some_and(|a| a.has(out)), "no arm");
             let turns = match heading.turn_to(out) {
@@ -506,6 +507,7 @@ proptest! {
             v = neighbour_index(b, v, out).unwrap();
             heading = out;
             way.push(v);
+            poses.push((v, out));
             prop_assert!(way.len() <= area * 4, "the descent loops");
         }
         if v0 == g {
@@ -521,9 +523,26 @@ proptest! {
         for (x, &p) in walked.iter().enumerate() {
             prop_assert_eq!(p, way.contains(&x) && (v == g), "node {}", x);
         }
+        // The first node found along the way is the first of the walk.
+        let first = way.iter().copied().find(|&x| x % 3 == seed as usize % 3);
+        prop_assert_eq!(r.descent_find(&map, v0, h0, |x| x % 3 == seed as usize % 3), first);
         r.mark_descent(&map, v0, h0);
         for (x, &p) in walked.iter().enumerate() {
             prop_assert_eq!(r.descent_passes(&map, v0, h0, x), p);
+        }
+        // Marks slid a few steps along the way (a team mate drove on)
+        // answer as a fresh walk from there does.
+        let mut fresh = field_for(area);
+        fresh.compute_reverse(&map, t, b.pos(g), |_, _, _| Flow::Continue).unwrap();
+        for &(vk, hk) in poses.iter().take(20) {
+            r.mark_descent(&map, vk, hk);
+            for x in 0..area {
+                prop_assert_eq!(
+                    r.descent_passes(&map, vk, hk, x),
+                    fresh.descent_passes(&map, vk, hk, x),
+                    "slid to {} node {}", vk, x
+                );
+            }
         }
         // Marks of another pose replace them cleanly.
         r.mark_descent(&map, g, Heading::North);
