@@ -442,7 +442,7 @@ pub fn lower_bound_s(field: &Field, k: usize, timing: Timing) -> f64 {
     let remembered = LAST
         .lock()
         .ok()
-        .and_then(|last| last.filter(|&(k, _)| k == key).map(|(_, b)| b));
+        .and_then(|last| last.filter(|&(seen, _)| seen == key).map(|(_, b)| b));
     let bound = remembered.unwrap_or_else(|| {
         let truth = Truth::new(field.nodes().iter().map(|(p, a)| (*p, *a)));
         let bound = lower_bounds(&truth, &starts, k).with_return;
