@@ -69,6 +69,18 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         })
     }
 
+    /// The pose one edge on along [`DistField::way_out`]: the node driven
+    /// into and the heading it is entered with.
+    fn step_on_way<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        v: usize,
+        heading: Heading,
+    ) -> Option<(usize, Heading)> {
+        let out = self.way_out(map, v, heading)?;
+        Some((neighbour_index(self.bounds, v, out)?, out))
+    }
+
     /// Follows [`DistField::way_out`] from the pose (`v`, `heading`),
     /// calling `step(node)` for every node driven into, the goal last;
     /// stops early when `step` says so. Whether the walk ended at the goal
@@ -85,10 +97,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             if Some(v) == goal {
                 return true;
             }
-            let Some(w) = self
-                .way_out(map, v, heading)
-                .and_then(|out| Some((neighbour_index(self.bounds, v, out)?, out)))
-            else {
+            let Some(w) = self.step_on_way(map, v, heading) else {
                 return false;
             };
             (v, heading) = w;
@@ -172,41 +181,27 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         from: usize,
         to: usize,
     ) -> bool {
-        let mut state = from;
-        let mut steps = 0;
-        let found = loop {
-            if state == to {
-                break true;
+        let pose = |s: usize| (s / 4, Heading::from_index((s % 4) as u8));
+        let state = |v: usize, h: Heading| v * 4 + usize::from(h.index());
+        let (mut v, mut heading) = pose(from);
+        for steps in 0.. {
+            if state(v, heading) == to {
+                break;
             }
-            let (v, heading) = (state / 4, Heading::from_index((state % 4) as u8));
-            let Some(next) = (steps < MARK_SLIDE)
-                .then(|| self.way_out(map, v, heading))
-                .flatten()
-                .and_then(|out| {
-                    Some(neighbour_index(self.bounds, v, out)? * 4 + usize::from(out.index()))
-                })
-            else {
-                break false;
-            };
-            state = next;
-            steps += 1;
-        };
-        if !found {
-            return false;
+            match self.step_on_way(map, v, heading) {
+                Some(next) if steps < MARK_SLIDE => (v, heading) = next,
+                _ => return false,
+            }
         }
-        let mut state = from;
-        while state != to {
-            let (v, heading) = (state / 4, Heading::from_index((state % 4) as u8));
-            let Some((w, out)) = self
-                .way_out(map, v, heading)
-                .and_then(|out| Some((neighbour_index(self.bounds, v, out)?, out)))
-            else {
+        let (mut v, mut heading) = pose(from);
+        while state(v, heading) != to {
+            let Some((w, out)) = self.step_on_way(map, v, heading) else {
                 return false;
             };
             if let Some(c) = self.cells.as_mut().get_mut(w) {
                 c.ring_b &= !ON_WAY;
             }
-            state = w * 4 + usize::from(out.index());
+            (v, heading) = (w, out);
         }
         true
     }
@@ -226,10 +221,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             if Some(v) == goal {
                 return true;
             }
-            let Some((w, out)) = self
-                .way_out(map, v, heading)
-                .and_then(|out| Some((neighbour_index(self.bounds, v, out)?, out)))
-            else {
+            let Some((w, out)) = self.step_on_way(map, v, heading) else {
                 return false;
             };
             if let Some(c) = self.cells.as_mut().get_mut(w) {
