@@ -10,11 +10,9 @@
 //! each robot's k cheapest frontier nodes, at most k² columns, in fixed
 //! arrays without allocation.
 
-use super::layers::CooperationLayer;
-use super::{Context, Decision, MAX_ROBOTS, Strategy, explore_decision, go_home, nearest_or_home};
-use crate::geometry::Pos;
+use super::{Context, Decision, MAX_ROBOTS, Strategy, explore_decision, nearest_or_home};
 use crate::map::Block;
-use crate::path::{DistField, Flow, PlanCell, PlanError, arms_at};
+use crate::path::{DistField, Flow, PlanCell, PlanError};
 use crate::timing::Ticks;
 
 /// Most candidate frontier nodes an assignment considers.
@@ -22,7 +20,10 @@ pub const MAX_CANDIDATES: usize = MAX_ROBOTS * MAX_ROBOTS;
 
 const INF: i64 = 1 << 40;
 
+mod burgard;
+mod endgame;
 mod picks;
+pub use burgard::BurgardGreedy;
 use picks::{FIRST_PICKS, PICKS, Picks};
 
 /// The cost matrix of a team against candidate frontier nodes.
@@ -240,155 +241,6 @@ impl Candidates {
         }
     }
 
-    /// [`Candidates::cheapest`] once fewer frontier nodes than robots are
-    /// left: then every robot's k cheapest are all of them, and every
-    /// field would have to reach the farthest (most of a large map, for
-    /// each of 16 robots at every decision: three quarters of a 16-robot
-    /// run's searching). The swap argument runs the other way instead:
-    /// with m frontier nodes, some optimal assignment gives each node one
-    /// of its own m cheapest robots (at most m − 1 of those are busy
-    /// elsewhere, so one is free to take it). So the deciding robot's field
-    /// finds the m nodes, and another robot's field is grown only if
-    /// `bound(j, node)`, a lower bound of its cost for the node, could beat
-    /// the m-th cheapest robot found for some node so far, and only as far
-    /// as that could still happen. Rows of robots never searched are
-    /// forbidden. `None` when the deciding robot cannot reach every
-    /// frontier node (team mates in another part of the graph might): then
-    /// the nodes it finds are not all the columns.
-    fn endgame<M, F>(
-        ctx: &Context<'_, M>,
-        fields: &mut [DistField<F>],
-        mut cost: impl FnMut(usize, usize, Ticks) -> Option<i64>,
-        mut floor: impl FnMut(usize, Ticks) -> i64,
-        mut bound: impl FnMut(usize, usize) -> i64,
-    ) -> Result<Option<Candidates>, PlanError>
-    where
-        M: AsRef<[Block]> + AsMut<[Block]>,
-        F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
-    {
-        let (map, k, me) = (ctx.map, ctx.robots.len(), ctx.me);
-        let mut c = Candidates::empty(k);
-        let (Some(r), Some(field)) = (ctx.robots.get(me), fields.get_mut(me)) else {
-            return Ok(None);
-        };
-        let mut unseen = map.frontier_len();
-        field.compute(map, ctx.timing, r.pos, r.heading, |i, _| {
-            if map.is_frontier_at(i) {
-                unseen = unseen.saturating_sub(1);
-                if let Some(slot) = c.nodes.get_mut(c.m) {
-                    *slot = i;
-                    c.m += 1;
-                }
-            }
-            if unseen == 0 {
-                Flow::Stop
-            } else {
-                Flow::Continue
-            }
-        })?;
-        if unseen > 0 {
-            return Ok(None);
-        }
-        let m = c.m;
-        // A second lower bound, from every field searched so far (see
-        // `learn`): ours first, then each team mate's as it is grown. In a
-        // maze, where Manhattan distance says little, it spares growing the
-        // fields of team mates that stand behind one already searched, no
-        // nearer the frontier (maze 64², 16 robots: 7.8 → 4.7 team mates'
-        // fields per decision).
-        let mut near = [[i64::MIN; MAX_ROBOTS]; MAX_ROBOTS];
-        let u_turn = 2 * field.timing().quarter_turn;
-        learn(&mut near, ctx, &c, field, u_turn, &mut cost);
-        let mut bound =
-            |near: &[[i64; MAX_ROBOTS]; MAX_ROBOTS], j: usize, col: usize, node: usize| {
-                let by_field = near.get(j).and_then(|r| r.get(col)).copied();
-                bound(j, node).max(by_field.unwrap_or(i64::MIN))
-            };
-        let mut searched = [false; MAX_ROBOTS];
-        let fill = |c: &mut Candidates,
-                    j: usize,
-                    field: &DistField<F>,
-                    cost: &mut dyn FnMut(usize, usize, Ticks) -> Option<i64>| {
-            for col in 0..m {
-                let node = c.nodes.get(col).copied().unwrap_or(usize::MAX);
-                if let (Some(x), Some(v)) = (
-                    field.dist_at(node).and_then(|d| cost(j, node, d)),
-                    c.cost.get_mut(j).and_then(|row| row.get_mut(col)),
-                ) {
-                    *v = x.clamp(-INF + 1, INF - 1);
-                }
-            }
-        };
-        if let (Some(s), Some(field)) = (searched.get_mut(me), fields.get(me)) {
-            *s = true;
-            fill(&mut c, me, field, &mut cost);
-        }
-        if m == 0 {
-            return Ok(Some(c));
-        }
-        // The m-th cheapest searched robot of column `col`: a robot that
-        // cannot beat it is not needed there.
-        let threshold = |c: &Candidates, col: usize| -> i64 {
-            let mut best = [INF; MAX_ROBOTS];
-            for (j, b) in best.iter_mut().enumerate().take(k) {
-                *b = c.at(j, col);
-            }
-            let row = best.get_mut(..k).unwrap_or(&mut []);
-            row.sort_unstable();
-            row.get(m - 1).copied().unwrap_or(INF)
-        };
-        // The other robots, likeliest to matter first.
-        let mut order = [(0i64, 0usize); MAX_ROBOTS];
-        for (j, o) in order.iter_mut().enumerate().take(k) {
-            let nearest = (0..m)
-                .filter_map(|col| c.nodes.get(col).map(|&node| bound(&near, j, col, node)))
-                .min()
-                .unwrap_or(INF);
-            *o = (nearest, j);
-        }
-        let order = order.get_mut(..k).unwrap_or(&mut []);
-        order.sort_unstable();
-        for &(_, j) in order.iter() {
-            if searched.get(j).copied().unwrap_or(true) {
-                continue;
-            }
-            // How far this robot's costs could matter, if anywhere.
-            let mut limit: Option<i64> = None;
-            for col in 0..m {
-                let node = c.nodes.get(col).copied().unwrap_or(usize::MAX);
-                let t = threshold(&c, col);
-                if bound(&near, j, col, node) < t {
-                    limit = Some(limit.map_or(t, |l: i64| l.max(t)));
-                }
-            }
-            let (Some(limit), Some(r), Some(field)) = (limit, ctx.robots.get(j), fields.get_mut(j))
-            else {
-                continue;
-            };
-            let nodes = c.nodes;
-            let cols = nodes.get(..m).unwrap_or(&[]);
-            let mut missing = m;
-            field.compute(map, ctx.timing, r.pos, r.heading, |i, d| {
-                if floor(j, d) >= limit {
-                    return Flow::Stop;
-                }
-                if map.is_frontier_at(i) && cols.contains(&i) {
-                    missing -= 1;
-                    if missing == 0 {
-                        return Flow::Stop;
-                    }
-                }
-                Flow::Continue
-            })?;
-            if let Some(s) = searched.get_mut(j) {
-                *s = true;
-            }
-            fill(&mut c, j, field, &mut cost);
-            learn(&mut near, ctx, &c, field, u_turn, &mut cost);
-        }
-        Ok(Some(c))
-    }
-
     /// Adds `x` to the cost of robot `j` for column `col` (forbidden pairs
     /// stay forbidden).
     pub(crate) fn add(&mut self, j: usize, col: usize, x: i64) {
@@ -412,42 +264,6 @@ impl Candidates {
             .and_then(|r| r.get(col))
             .copied()
             .unwrap_or(INF)
-    }
-}
-
-/// Raises `near[j][col]`, a lower bound of robot `j`'s cost for column
-/// `col`, with what `field` (a search from any pose) proves: a robot
-/// standing on a node the field reached at `at` is at least
-/// `d(node) − at − U-turn` of travel from a column node it reached at
-/// `d(node)`, or the field's robot could drive there through its node.
-fn learn<M, F>(
-    near: &mut [[i64; MAX_ROBOTS]; MAX_ROBOTS],
-    ctx: &Context<'_, M>,
-    c: &Candidates,
-    field: &DistField<F>,
-    u_turn: Ticks,
-    cost: &mut dyn FnMut(usize, usize, Ticks) -> Option<i64>,
-) where
-    M: AsRef<[Block]> + AsMut<[Block]>,
-    F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
-{
-    let map = ctx.map;
-    for (j, row) in near.iter_mut().enumerate().take(c.k) {
-        let at = ctx.robots.get(j).and_then(|q| {
-            let i = map.bounds().index(q.pos)?;
-            arms_at(map, i)?;
-            field.dist_at(i)
-        });
-        let Some(at) = at else { continue };
-        for (col, lb) in row.iter_mut().enumerate().take(c.m) {
-            let node = c.nodes.get(col).copied().unwrap_or(usize::MAX);
-            if let Some(d) = field.dist_at(node) {
-                let least = d.saturating_sub(at).saturating_sub(u_turn);
-                if let Some(x) = cost(j, node, least) {
-                    *lb = (*lb).max(x);
-                }
-            }
-        }
     }
 }
 
@@ -677,99 +493,6 @@ where
                 Some(f) => nearest_or_home(ctx, f),
                 None => Ok(Decision::STAY),
             },
-        }
-    }
-}
-
-/// Burgard et al.'s coordinated exploration in its greedy form: repeatedly
-/// give the (robot, frontier) pair with the least travel time plus the
-/// seed's cooperation penalty around targets already given, until every
-/// robot has one; the deciding robot takes its share.
-#[derive(Clone, Copy, Debug)]
-pub struct BurgardGreedy {
-    /// The utility discount around assigned targets (the seed's +5 … +1).
-    pub penalty: CooperationLayer,
-}
-
-impl Default for BurgardGreedy {
-    fn default() -> Self {
-        BurgardGreedy {
-            penalty: CooperationLayer { peak: 5, radius: 4 },
-        }
-    }
-}
-
-impl<M, F> Strategy<M, F> for BurgardGreedy
-where
-    M: AsRef<[Block]> + AsMut<[Block]>,
-    F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
-{
-    fn name(&self) -> &'static str {
-        "burgard"
-    }
-
-    fn decide(
-        &mut self,
-        ctx: &Context<'_, M>,
-        fields: &mut [DistField<F>],
-    ) -> Result<Decision, PlanError> {
-        let k = ctx.robots.len();
-        let Some(c) = Candidates::collect(ctx, fields, MAX_CANDIDATES, 0)? else {
-            return match fields.first_mut() {
-                Some(f) => nearest_or_home(ctx, f),
-                None => Ok(Decision::STAY),
-            };
-        };
-        let bounds = ctx.map.bounds();
-        let mut given: [Option<usize>; MAX_ROBOTS] = [None; MAX_ROBOTS];
-        let mut targets: [Option<Pos>; MAX_ROBOTS] = [None; MAX_ROBOTS];
-        for _ in 0..k {
-            let mut best: Option<(i64, usize, usize)> = None;
-            for j in 0..k {
-                if given.get(j).copied().flatten().is_some() {
-                    continue;
-                }
-                for col in 0..c.m {
-                    let d = c.at(j, col);
-                    if d >= INF {
-                        continue;
-                    }
-                    let Some(&node) = c.nodes.get(col) else {
-                        continue;
-                    };
-                    let p = bounds.pos(node);
-                    let mut pen = 0i64;
-                    for a in targets.iter().flatten() {
-                        let e = self.penalty.penalty_edges(p.manhattan(*a));
-                        if e > 0 && CooperationLayer::direct_route_open(ctx.map, *a, p) {
-                            pen += i64::from(e) * i64::from(ctx.timing.edge);
-                        }
-                    }
-                    let cand = (d + pen, node, j);
-                    if best.is_none_or(|b| cand < b) {
-                        best = Some(cand);
-                    }
-                }
-            }
-            let Some((_, node, j)) = best else { break };
-            if let Some(g) = given.get_mut(j) {
-                *g = Some(node);
-            }
-            if let Some(t) = targets.get_mut(j) {
-                *t = Some(bounds.pos(node));
-            }
-        }
-        let me = ctx.me;
-        match (given.get(me).copied().flatten(), fields.get_mut(me)) {
-            (Some(i), Some(f)) => Ok(explore_decision(ctx, f, i)),
-            (None, Some(f)) => {
-                if c.m == 0 {
-                    go_home(ctx, f)
-                } else {
-                    nearest_or_home(ctx, f)
-                }
-            }
-            (_, None) => Ok(Decision::STAY),
         }
     }
 }

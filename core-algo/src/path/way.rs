@@ -1,0 +1,419 @@
+//! Ways read from a field: the cheapest path back to the start, its first
+//! heading, and marks on the nodes of a way, so that "does this way pass
+//! that node?" costs one look-up instead of a walk.
+
+use super::{Back, DistField, Flow, Marked, ON_WAY, PlanCell, State, arms_at, neighbour_index};
+use crate::geometry::{Heading, Pos};
+use crate::map::{Block, KnownMap};
+use crate::timing::Ticks;
+
+impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
+    /// Whether the drive into state (`v`, `h`) at `d` came from (`u`, `h`).
+    fn drive_pred<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        v: usize,
+        h: usize,
+        d: Ticks,
+    ) -> Option<usize> {
+        let hd = Heading::from_index(h as u8);
+        let u = neighbour_index(self.bounds, v, hd.opposite())?;
+        let du = self.cells.as_ref().get(u)?.pose_dist(h)?;
+        (du + self.timing.edge == d && arms_at(map, u)?.has(hd)).then_some(u)
+    }
+
+    /// Walks the cheapest path back from node `target` to the start,
+    /// calling `step(node, heading driven into it)` for each drive, last
+    /// drive first. Returns `false` if `target` was not reached.
+    fn walk_back<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        target: usize,
+        mut step: impl FnMut(usize, Heading),
+    ) -> bool {
+        self.walk_back_while(map, target, |v, h, _| {
+            step(v, h);
+            Flow::Continue
+        })
+    }
+
+    /// [`DistField::walk_back`] that also passes the distance of each state
+    /// driven into, and stops (returning `true`) when `step` says so.
+    fn walk_back_while<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        target: usize,
+        mut step: impl FnMut(usize, Heading, Ticks) -> Flow,
+    ) -> bool {
+        let Some(mut state) = self.last_state(target) else {
+            return false;
+        };
+        for _ in 0..self.bounds.area().saturating_add(1) {
+            match self.step_back(map, state) {
+                Back::Start => return true,
+                Back::Lost => return false,
+                Back::Drive {
+                    into: (v, h, d),
+                    from,
+                } => {
+                    if step(v, Heading::from_index(h as u8), d) == Flow::Stop {
+                        return true;
+                    }
+                    state = from;
+                }
+            }
+        }
+        false
+    }
+
+    /// The state (node, heading, distance) in which the cheapest path to
+    /// node `target` ends: its cheapest heading.
+    fn last_state(&self, target: usize) -> Option<State> {
+        self.start?;
+        let cell = self.cells.as_ref().get(target)?;
+        let h = (0..4).find(|&h| cell.pose_dist(h) == cell.dist())?;
+        Some((target, h, cell.pose_dist(h)?))
+    }
+
+    /// One drive back along the cheapest path from `state`, undoing the
+    /// turns on the spot before it (at most three).
+    fn step_back<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        state: State,
+    ) -> Back {
+        let Some((s0, h0)) = self.start else {
+            return Back::Lost;
+        };
+        let t = self.timing;
+        let (v, mut h, mut d) = state;
+        for _ in 0..4 {
+            if v == s0 && h == usize::from(h0.index()) && d == 0 {
+                return Back::Start;
+            }
+            if let Some(u) = self.drive_pred(map, v, h, d) {
+                return Back::Drive {
+                    into: (v, h, d),
+                    from: (u, h, d - t.edge),
+                };
+            }
+            let cv = self.cells.as_ref().get(v);
+            let turn = [(h + 3) & 3, (h + 1) & 3].into_iter().find(|&hp| {
+                cv.and_then(|c| c.pose_dist(hp))
+                    .is_some_and(|dp| dp + t.quarter_turn == d)
+            });
+            let Some(hp) = turn else { break };
+            h = hp;
+            d -= t.quarter_turn;
+        }
+        Back::Lost
+    }
+
+    /// The heading the robot must face to leave the start node on the
+    /// cheapest path to node `target`; `None` when `target` is the start
+    /// node or was not reached.
+    pub fn first_heading<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        target: usize,
+    ) -> Option<Heading> {
+        let mut first = None;
+        self.walk_back(map, target, |_, h| first = Some(h))
+            .then_some(first)
+            .flatten()
+    }
+
+    /// Whether the cheapest path to node `target` drives through node
+    /// `via` (the target counts, the start does not). Used to keep out of a
+    /// team mate's way home.
+    pub fn path_passes<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        target: usize,
+        via: usize,
+    ) -> bool {
+        // Distances fall along the walk back: once below `via`'s own, the
+        // walk cannot meet it any more (homecoming asks this for many nodes
+        // near the end of long paths).
+        let Some(dv) = self.dist_at(via) else {
+            return false;
+        };
+        if self.way == Some((Marked::Way(target), map.revision())) {
+            return self
+                .cells
+                .as_ref()
+                .get(via)
+                .is_some_and(|c| c.ring_b & ON_WAY != 0);
+        }
+        let mut hit = false;
+        let walked = self.walk_back_while(map, target, |v, _, d| {
+            hit |= v == via;
+            if hit || d < dv {
+                Flow::Stop
+            } else {
+                Flow::Continue
+            }
+        });
+        walked && hit
+    }
+
+    /// Marks the cheapest path to node `target`, so that
+    /// [`DistField::path_passes`] answers for it in O(1) until the field or
+    /// the map changes. Homecoming and retreats ask whether each of many
+    /// nodes lies on one team mate's way; walking the way back for every
+    /// node cost O(way length) each, and in a large maze, where ways run
+    /// hundreds of edges, that was most of a run. One way per field is
+    /// marked at a time; the marks live in a bit of the settled cells' ring
+    /// slots, which the next search clears. Returns whether `target` was
+    /// reached.
+    pub fn mark_way<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        target: usize,
+    ) -> bool {
+        self.mark(map, Marked::Way(target))
+    }
+
+    /// Marks `marked` (see [`DistField::mark_way`]) unless it is marked
+    /// already; whether its walk reached its end.
+    pub(super) fn mark<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        marked: Marked,
+    ) -> bool {
+        if self.way == Some((marked, map.revision())) {
+            return true;
+        }
+        if let (Some((Marked::Descent(from), rev)), Marked::Descent(to)) = (self.way, marked) {
+            if rev == map.revision() && self.unmark_descent_prefix(map, from, to) {
+                self.way = Some((marked, rev));
+                return true;
+            }
+        }
+        self.unmark_way(map);
+        if !self.set_marks(map, marked, true) {
+            // Not reached (or the walk broke off): clear what was set.
+            self.set_marks(map, marked, false);
+            return false;
+        }
+        self.way = Some((marked, map.revision()));
+        true
+    }
+
+    /// Sets or clears the marks along `marked`; whether its walk reached
+    /// its end.
+    fn set_marks<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        marked: Marked,
+        on: bool,
+    ) -> bool {
+        match marked {
+            Marked::Way(target) => self.set_way_bits(map, target, on),
+            Marked::Descent(state) => self.set_descent_bits(map, state, on),
+        }
+    }
+
+    /// Whether the cheapest path to node `v` drives through node `via`,
+    /// as [`DistField::path_passes`] says, for many `v` and one `via`:
+    /// once the search has run to completion its queues are empty, and
+    /// each (node, heading) state's answer is memoised in its first ring
+    /// slot, so that asking for every node of the map costs O(map) in all
+    /// rather than O(way) each. A retreat asks it for every node it might
+    /// retreat to (is it behind the bumper's goal, seen from home?); in a
+    /// crowded maze the walks were most of the run. A search still in
+    /// progress just walks.
+    pub fn passes<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        v: usize,
+        via: usize,
+    ) -> bool {
+        let q = &self.queue;
+        let complete = q.a_len == 0 && q.b_len == 0 && q.pending.is_none();
+        if !complete || self.tree != Some(map.revision()) {
+            return self.path_passes(map, v, via);
+        }
+        if self.memo != Some((via, map.revision())) {
+            self.clear_memo();
+            self.memo = Some((via, map.revision()));
+        }
+        let (Some(dv), Some(first)) = (self.dist_at(via), self.last_state(v)) else {
+            return false;
+        };
+        let limit = self.bounds.area().saturating_add(1);
+        // Walk back to the answer: `via` driven into, fallen below its
+        // distance (it cannot come any more), the start, or a state whose
+        // answer is known.
+        let mut state = first;
+        let mut answer = false;
+        for _ in 0..limit {
+            if let Some(a) = self.memo_at(state) {
+                answer = a;
+                break;
+            }
+            match self.step_back(map, state) {
+                Back::Start | Back::Lost => break,
+                Back::Drive { into, from } => {
+                    if into.0 == via {
+                        answer = true;
+                        break;
+                    }
+                    if into.2 < dv {
+                        break;
+                    }
+                    state = from;
+                }
+            }
+        }
+        // Every state walked has the same answer: the rest of its way is
+        // the rest of this one.
+        let mut state = first;
+        for _ in 0..limit {
+            if self.memo_at(state).is_some() {
+                break;
+            }
+            self.set_memo(state, answer);
+            match self.step_back(map, state) {
+                Back::Start | Back::Lost => break,
+                Back::Drive { into, from } => {
+                    if into.0 == via || into.2 < dv {
+                        break;
+                    }
+                    state = from;
+                }
+            }
+        }
+        answer
+    }
+
+    /// The memoised answer of state `(node, heading, _)`, if any: two bits
+    /// per heading (known, answer) in the node's first ring slot.
+    fn memo_at(&self, (v, h, _): State) -> Option<bool> {
+        let bits = self.cells.as_ref().get(v)?.ring_a >> (2 * h);
+        (bits & 1 != 0).then_some(bits & 2 != 0)
+    }
+
+    fn set_memo(&mut self, (v, h, _): State, answer: bool) {
+        if let Some(c) = self.cells.as_mut().get_mut(v) {
+            c.ring_a |= (1 | (u32::from(answer) << 1)) << (2 * h);
+        }
+    }
+
+    /// Clears every settled cell's first ring slot (the memo's bits).
+    pub(super) fn clear_memo(&mut self) {
+        let cells = self.cells.as_mut();
+        self.dirty.for_each_row(|r| {
+            for c in cells.get_mut(r).unwrap_or(&mut []) {
+                c.ring_a = 0;
+            }
+        });
+    }
+
+    /// Clears the marks of [`DistField::mark_way`].
+    pub(super) fn unmark_way<M: AsRef<[Block]> + AsMut<[Block]>>(&mut self, map: &KnownMap<M>) {
+        let Some((marked, revision)) = self.way.take() else {
+            return;
+        };
+        if revision == map.revision() {
+            self.set_marks(map, marked, false);
+        } else {
+            // The map changed, so the walk back might take another way:
+            // clear every settled cell.
+            let cells = self.cells.as_mut();
+            self.dirty.for_each_row(|r| {
+                for c in cells.get_mut(r).unwrap_or(&mut []) {
+                    c.ring_b &= !ON_WAY;
+                }
+            });
+        }
+    }
+
+    /// Sets or clears the mark on every node driven into on the cheapest
+    /// path to `target`; whether the walk reached the start. Its own loop
+    /// over [`DistField::step_back`], not `walk_back_while`: it writes the
+    /// cells it walks, which that borrow-shared walk cannot.
+    fn set_way_bits<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        target: usize,
+        on: bool,
+    ) -> bool {
+        let Some(mut state) = self.last_state(target) else {
+            return false;
+        };
+        for _ in 0..self.bounds.area().saturating_add(1) {
+            match self.step_back(map, state) {
+                Back::Start => return true,
+                Back::Lost => return false,
+                Back::Drive { into, from } => {
+                    if let Some(c) = self.cells.as_mut().get_mut(into.0) {
+                        if on {
+                            c.ring_b |= ON_WAY;
+                        } else {
+                            c.ring_b &= !ON_WAY;
+                        }
+                    }
+                    state = from;
+                }
+            }
+        }
+        false
+    }
+
+    /// The first node, walking the cheapest path back from node `target`
+    /// (included) towards the start (included), for which `pred` holds;
+    /// `None` if none does or `target` was not reached. A retreat uses it
+    /// to find where its way leaves a team mate's.
+    pub fn first_back<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        target: usize,
+        mut pred: impl FnMut(usize) -> bool,
+    ) -> Option<usize> {
+        let mut found = None;
+        let walked = self.walk_back_while(map, target, |v, _, _| {
+            if pred(v) {
+                found = Some(v);
+                Flow::Stop
+            } else {
+                Flow::Continue
+            }
+        });
+        if !walked {
+            return None;
+        }
+        found.or_else(|| self.start.map(|(s0, _)| s0).filter(|&s0| pred(s0)))
+    }
+
+    /// Writes the nodes of the cheapest path to node `target` into `out`,
+    /// start node first; returns their number, or `None` if `target` was
+    /// not reached or `out` is too short.
+    pub fn path<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        target: usize,
+        out: &mut [Pos],
+    ) -> Option<usize> {
+        let mut n = 0usize;
+        let mut fits = true;
+        let bounds = self.bounds;
+        let ok = self.walk_back(map, target, |v, _| {
+            if let Some(slot) = out.get_mut(n) {
+                *slot = bounds.pos(v);
+            } else {
+                fits = false;
+            }
+            n += 1;
+        });
+        let (s0, _) = self.start?;
+        if !ok || !fits {
+            return None;
+        }
+        let slot = out.get_mut(n)?;
+        *slot = bounds.pos(s0);
+        n += 1;
+        out.get_mut(..n)?.reverse();
+        Some(n)
+    }
+}
