@@ -35,71 +35,8 @@ use crate::geometry::{Arms, Heading, Pos};
 use crate::map::{Block, Bounds, KnownMap};
 use crate::timing::{Ticks, Timing};
 use core::fmt;
-
-const DIST_MASK: u32 = 0x0FFF_FFFF;
-const SETTLED_SHIFT: u32 = 28;
-const NO_OFF: u8 = u8::MAX;
-/// A node on the marked way (see [`DistField::mark_way`]): the top bit of a
-/// cell's second ring slot, which a queue entry (below 8 × area < 2^31)
-/// never sets.
-const ON_WAY: u32 = 1 << 31;
-
-/// The largest distance a field holds (about 31 days at 10 ms ticks);
-/// farther states are left unreached.
-pub const MAX_DIST: Ticks = DIST_MASK - 1;
-
-/// The planner's scratch for one node: 16 bytes. See the module docs.
-#[derive(Clone, Copy, Debug)]
-pub struct PlanCell {
-    base: u32,
-    off: [u8; 4],
-    ring_a: u32,
-    ring_b: u32,
-}
-
-impl PlanCell {
-    /// A cell that nothing has reached.
-    pub const EMPTY: PlanCell = PlanCell {
-        base: DIST_MASK,
-        off: [NO_OFF; 4],
-        ring_a: 0,
-        ring_b: 0,
-    };
-
-    /// All bits zero: only a placeholder for `static` storage, which
-    /// [`DistField::new`] clears to [`PlanCell::EMPTY`]. A zero initialiser
-    /// puts the firmware's planner scratch in `.bss` instead of `.data`,
-    /// whose initial image would cost 16 KiB of flash.
-    pub const ZEROED: PlanCell = PlanCell {
-        base: 0,
-        off: [0; 4],
-        ring_a: 0,
-        ring_b: 0,
-    };
-
-    fn dist(&self) -> Option<Ticks> {
-        let d = self.base & DIST_MASK;
-        (d != DIST_MASK).then_some(d)
-    }
-
-    fn settled(&self, h: usize) -> bool {
-        self.base & (1 << (SETTLED_SHIFT + h as u32)) != 0
-    }
-
-    fn pose_dist(&self, h: usize) -> Option<Ticks> {
-        if self.settled(h) {
-            Some((self.base & DIST_MASK) + u32::from(*self.off.get(h)?))
-        } else {
-            None
-        }
-    }
-}
-
-impl Default for PlanCell {
-    fn default() -> Self {
-        PlanCell::EMPTY
-    }
-}
+use scratch::{DIST_MASK, Dirty, NO_OFF, ON_WAY, Queues, SETTLED_SHIFT};
+pub use scratch::{MAX_DIST, PlanCell, SMALL_WINDOW, min_cells};
 
 /// Why a search could not run. Nothing panics on bad input.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -131,81 +68,6 @@ impl fmt::Display for PlanError {
     }
 }
 
-/// Where a search settled cells: storage indices `lo..hi`, and no farther
-/// than `reach / edge` columns from the start column `sx` (a settled node
-/// at distance `d` is at most `d / edge` lattice steps away), in a window
-/// `width` wide. The next search clears only that box: rows of a wide map
-/// are much longer than a search that stops early is wide, and finding the
-/// columns this way costs no division per settled state.
-#[derive(Clone, Copy, Debug, Default)]
-struct Dirty {
-    lo: usize,
-    hi: usize,
-    reach: Ticks,
-    sx: usize,
-    edge: Ticks,
-    width: usize,
-}
-
-impl Dirty {
-    /// Nothing settled yet by a search from storage index `s0` with edges
-    /// of `edge` ticks in a window `width` wide.
-    fn start(s0: usize, width: usize, edge: Ticks) -> Dirty {
-        let width = width.max(1);
-        Dirty {
-            lo: 0,
-            hi: 0,
-            reach: 0,
-            sx: s0 % width,
-            edge,
-            width,
-        }
-    }
-
-    /// The whole of a window of `area` nodes, `width` wide (a search whose
-    /// costs are not edge times).
-    fn all(area: usize, width: usize) -> Dirty {
-        Dirty {
-            lo: 0,
-            hi: area,
-            reach: 0,
-            sx: 0,
-            edge: 0,
-            width: width.max(1),
-        }
-    }
-
-    /// Index `i` settled at distance `key`.
-    fn add(&mut self, i: usize, key: Ticks) {
-        if self.lo >= self.hi {
-            self.lo = i;
-            self.hi = i + 1;
-        } else {
-            self.lo = self.lo.min(i);
-            self.hi = self.hi.max(i + 1);
-        }
-        self.reach = self.reach.max(key);
-    }
-
-    /// Calls `f` with the storage range of each row of the box.
-    fn for_each_row(self, mut f: impl FnMut(core::ops::Range<usize>)) {
-        if self.lo >= self.hi || self.width == 0 {
-            return;
-        }
-        let (x0, x1) = match (self.reach / self.edge.max(1)) as usize {
-            _ if self.edge == 0 => (0, self.width),
-            r => (
-                self.sx.saturating_sub(r),
-                self.sx.saturating_add(r + 1).min(self.width),
-            ),
-        };
-        for row in self.lo / self.width..=(self.hi - 1) / self.width {
-            let base = row * self.width;
-            f(base + x0..base + x1);
-        }
-    }
-}
-
 /// A (node, heading, distance) state of a field.
 type State = (usize, usize, Ticks);
 
@@ -227,29 +89,6 @@ pub enum Flow {
     Continue,
     /// Stop now: everything reached so far keeps its final distance.
     Stop,
-}
-
-/// Windows up to this many nodes get scratch enough that the planner's
-/// queues can never overflow (see [`min_cells`]).
-pub const SMALL_WINDOW: usize = 128;
-
-/// The scratch cells a window of `area` nodes needs.
-///
-/// Each of the two FIFO rings holds one entry per scratch cell. Over a
-/// whole search the edge ring receives at most one entry per (node,
-/// heading) state and the turn ring at most two per settled state, so
-/// 8 × area cells can never overflow. Small windows get that: their
-/// wavefront can be most of the window (cheap edges, dear turns). Larger
-/// windows get one cell per node, which holds a wavefront of `area` states,
-/// far more than a search at the robots' timing keeps in flight; should it
-/// ever fill, the search says [`PlanError::QueueFull`] rather than answer
-/// wrongly.
-pub const fn min_cells(area: usize) -> usize {
-    if area <= SMALL_WINDOW {
-        8 * if area < 8 { 8 } else { area }
-    } else {
-        area
-    }
 }
 
 /// The storage index of the neighbour of node `i` towards `h` within
@@ -807,19 +646,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     }
 }
 
-/// Where a stopped search stands: the two FIFOs and the settled state
-/// still to expand.
-#[derive(Clone, Copy, Debug, Default)]
-struct Queues {
-    a_head: usize,
-    a_len: usize,
-    b_head: usize,
-    b_len: usize,
-    pending: Option<(usize, usize, Ticks)>,
-}
-
 mod astar;
 mod descent;
+mod scratch;
 mod way;
 mod weighted;
 

@@ -11,7 +11,7 @@
 //!
 //! The 2010 code overwrote layer 2 with layer 0 and left layer 1 out of the
 //! chain (original-system §3.4); here the costs add up as designed. Weights
-//! are in edges and converted to ticks with [`Timing::edge`], so "one" means
+//! are in edges and converted to ticks with [`Timing::edge`](crate::timing::Timing::edge), so "one" means
 //! "as costly as driving one more edge".
 
 use super::{Context, Decision, Strategy, cheapest_frontier, explore_decision, go_home};
