@@ -38,6 +38,13 @@ use core::fmt;
 use scratch::{DIST_MASK, Dirty, NO_OFF, ON_WAY, Queues, SETTLED_SHIFT};
 pub use scratch::{MAX_DIST, PlanCell, SMALL_WINDOW, min_cells};
 
+/// Most nodes [`DistField::passes_any`] memoises answers for at once (a
+/// team of 16 and a goal); asked about more, it walks.
+pub const MAX_VIAS: usize = 17;
+
+/// The nodes a memo of [`DistField::passes_any`] answers for.
+type Vias = heapless::Vec<usize, MAX_VIAS>;
+
 /// Why a search could not run. Nothing panics on bad input.
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 pub enum PlanError {
@@ -166,9 +173,9 @@ pub struct DistField<S> {
     /// The goal of a completed [`DistField::compute_reverse`], and the map
     /// revision it ran on.
     reverse: Option<(usize, u32)>,
-    /// The node that [`DistField::passes`] memoises answers for, and the
-    /// map revision.
-    memo: Option<(usize, u32)>,
+    /// The nodes that [`DistField::passes_any`] memoises answers for, and
+    /// the map revision.
+    memo: Option<(Vias, u32)>,
 }
 
 impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {

@@ -118,13 +118,21 @@ where
                 .enumerate()
                 .any(|(i, q)| i != me && q.known && !q.failed && (q.home == p || q.pos == p))
         };
+        // Seen from home: behind the bumper's goal, or behind a home that
+        // fills before ours. One memoised question for all of them: asked
+        // one by one, each walked the way home anew for every spot looked
+        // at, minutes in a crowded maze.
+        let mut behind: Vec<usize, { MAX_ROBOTS + 1 }> = Vec::new();
+        // Room for the goal and every team mate: neither can fail.
+        let _ = behind.push(goal);
+        let _ = behind.extend_from_slice(&earlier);
         let mut free = |v: usize| {
             v != blocked
                 && !theirs.path_passes(map, goal, v)
                 && !claimed(v)
-                && !homeward.as_mut().is_some_and(|f| {
-                    f.passes(map, v, goal) || earlier.iter().any(|&h| f.path_passes(map, v, h))
-                })
+                && !homeward
+                    .as_mut()
+                    .is_some_and(|f| f.passes_any(map, v, &behind))
         };
         let pose = (self.pos, self.heading);
         let mut first = true;

@@ -93,6 +93,10 @@ pub struct TempoConfig {
     /// in edges) taken off its cost: far frontier nodes first, so that what
     /// is left at the end lies near home, on the way back.
     pub home_pull_pct: u32,
+    /// With `keep_share`: map changes a kept share survives before the
+    /// team is re-assigned (0: only an unchanged map keeps it, which loses
+    /// no optimal assignment; see `Commitment`).
+    pub share_slack: u32,
 }
 
 impl TempoConfig {
@@ -119,6 +123,7 @@ impl Default for TempoConfig {
             spread: 0,
             squared: false,
             home_pull_pct: 25,
+            share_slack: 0,
         }
     }
 }
@@ -162,7 +167,7 @@ where
         let cfg = self.config;
         let kept = self.kept.get_mut(me).and_then(Option::take);
         if let (true, Some(c)) = (cfg.keep_share, kept) {
-            if c.holds(ctx) {
+            if c.holds(ctx, cfg.share_slack) {
                 match (c.share(), fields.get_mut(me), ctx.my()) {
                     (None, ..) => {
                         self.keep(ctx, None, WAIT);

@@ -444,6 +444,17 @@ proptest! {
             let again: Vec<bool> = (0..area).map(|v| f.passes(&map, v, via)).collect();
             prop_assert_eq!(&again, &want);
         }
+        // Several vias at once answer as "any of them", memo or not.
+        let vias: Vec<usize> = (1..=3).map(|k| (seed as usize / (5 * k + 1)) % area).collect();
+        let want: Vec<bool> = (0..area)
+            .map(|v| vias.iter().any(|&via| f.path_passes(&map, v, via)))
+            .collect();
+        let got: Vec<bool> = (0..area).rev().map(|v| f.passes_any(&map, v, &vias)).collect();
+        let got: Vec<bool> = got.into_iter().rev().collect();
+        prop_assert_eq!(&got, &want);
+        let too_many: Vec<usize> = (0..crate::path::MAX_VIAS + 1).map(|k| vias[k % 3]).collect();
+        let walked: Vec<bool> = (0..area).map(|v| f.passes_any(&map, v, &too_many)).collect();
+        prop_assert_eq!(&walked, &want);
         // Stopped early: no memo, same answers as the walk.
         let mut g = field_for(area);
         let mut n = 0;

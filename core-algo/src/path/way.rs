@@ -2,7 +2,9 @@
 //! heading, and marks on the nodes of a way, so that "does this way pass
 //! that node?" costs one look-up instead of a walk.
 
-use super::{Back, DistField, Flow, Marked, ON_WAY, PlanCell, State, arms_at, neighbour_index};
+use super::{
+    Back, DistField, Flow, Marked, ON_WAY, PlanCell, State, Vias, arms_at, neighbour_index,
+};
 use crate::geometry::{Heading, Pos};
 use crate::map::{Block, KnownMap};
 use crate::timing::Ticks;
@@ -215,36 +217,56 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     }
 
     /// Whether the cheapest path to node `v` drives through node `via`,
-    /// as [`DistField::path_passes`] says, for many `v` and one `via`:
-    /// once the search has run to completion its queues are empty, and
-    /// each (node, heading) state's answer is memoised in its first ring
-    /// slot, so that asking for every node of the map costs O(map) in all
-    /// rather than O(way) each. A retreat asks it for every node it might
-    /// retreat to (is it behind the bumper's goal, seen from home?); in a
-    /// crowded maze the walks were most of the run. A search still in
-    /// progress just walks.
+    /// as [`DistField::path_passes`] says, for many `v` and one `via`: see
+    /// [`DistField::passes_any`].
     pub fn passes<M: AsRef<[Block]> + AsMut<[Block]>>(
         &mut self,
         map: &KnownMap<M>,
         v: usize,
         via: usize,
     ) -> bool {
+        self.passes_any(map, v, &[via])
+    }
+
+    /// Whether the cheapest path to node `v` drives through any of the
+    /// nodes `vias`, for many `v` and the same `vias`: once the search has
+    /// run to completion its queues are empty, and each (node, heading)
+    /// state's answer is memoised in its first ring slot, so that asking
+    /// for every node of the map costs O(map) in all rather than O(way)
+    /// each. A retreat asks it for every node it might retreat to (is it
+    /// behind the bumper's goal, or behind a team mate's home that fills
+    /// before ours, seen from home?); in a crowded maze the walks were most
+    /// of the run. A search still in progress, or more than [`MAX_VIAS`]
+    /// nodes, just walk.
+    ///
+    /// [`MAX_VIAS`]: super::MAX_VIAS
+    pub fn passes_any<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        v: usize,
+        vias: &[usize],
+    ) -> bool {
         let q = &self.queue;
         let complete = q.a_len == 0 && q.b_len == 0 && q.pending.is_none();
-        if !complete || self.tree != Some(map.revision()) {
-            return self.path_passes(map, v, via);
-        }
-        if self.memo != Some((via, map.revision())) {
+        let key = Vias::from_slice(vias).ok();
+        let Some(key) = key.filter(|_| complete && self.tree == Some(map.revision())) else {
+            return vias.iter().any(|&via| self.path_passes(map, v, via));
+        };
+        if self.memo.as_ref() != Some(&(key.clone(), map.revision())) {
             self.clear_memo();
-            self.memo = Some((via, map.revision()));
+            self.memo = Some((key, map.revision()));
         }
-        let (Some(dv), Some(first)) = (self.dist_at(via), self.last_state(v)) else {
+        // Distances fall along the walk back: below the nearest via's, it
+        // cannot meet any of them any more.
+        let (Some(dv), Some(first)) = (
+            vias.iter().filter_map(|&via| self.dist_at(via)).min(),
+            self.last_state(v),
+        ) else {
             return false;
         };
         let limit = self.bounds.area().saturating_add(1);
-        // Walk back to the answer: `via` driven into, fallen below its
-        // distance (it cannot come any more), the start, or a state whose
-        // answer is known.
+        // Walk back to the answer: a via driven into, fallen below their
+        // distances, the start, or a state whose answer is known.
         let mut state = first;
         let mut answer = false;
         for _ in 0..limit {
@@ -255,7 +277,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             match self.step_back(map, state) {
                 Back::Start | Back::Lost => break,
                 Back::Drive { into, from } => {
-                    if into.0 == via {
+                    if vias.contains(&into.0) {
                         answer = true;
                         break;
                     }
@@ -277,7 +299,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             match self.step_back(map, state) {
                 Back::Start | Back::Lost => break,
                 Back::Drive { into, from } => {
-                    if into.0 == via || into.2 < dv {
+                    if vias.contains(&into.0) || into.2 < dv {
                         break;
                     }
                     state = from;

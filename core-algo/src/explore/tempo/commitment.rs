@@ -87,14 +87,17 @@ impl Commitment {
         self.share
     }
 
-    /// Whether this still holds for the robot deciding in `ctx`.
-    pub(super) fn holds<M>(&self, ctx: &Context<'_, M>) -> bool
+    /// Whether this still holds for the robot deciding in `ctx`; a share
+    /// (not a wait) survives up to `slack` map changes (0: none, exact).
+    pub(super) fn holds<M>(&self, ctx: &Context<'_, M>, slack: u32) -> bool
     where
         M: AsRef<[Block]> + AsMut<[Block]>,
     {
         let Some(me) = ctx.my() else { return false };
         let bounds = ctx.map.bounds();
-        self.revision == ctx.map.revision()
+        let changes = ctx.map.revision().wrapping_sub(self.revision);
+        let slack = if self.share.is_some() { slack } else { 0 };
+        changes <= slack
             && self.team == ctx.robots.len()
             && self.away == Self::away(ctx)
             && bounds.index(me.pos) == Some(self.pose.0)
