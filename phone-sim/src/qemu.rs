@@ -9,7 +9,7 @@
 //!   protocol, exactly what an e-puck2 sends over Bluetooth; the phone side
 //!   talks to it through an ordinary [`SerialRobot`] proxy;
 //! * USART2 (the second `-serial`) is the body channel
-//!   ([`BodyMsg`](core_algo::agent::body::BodyMsg) text lines): the
+//!   ([`BodyMsg`] text lines): the
 //!   firmware's agent sends its orders (turn, move, scan) and a simulated
 //!   [`Bodies`] on the true field carries them out and reports node hits,
 //!   collisions and bumps back.

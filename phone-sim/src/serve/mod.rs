@@ -1,7 +1,7 @@
 //! `conquest serve`: the web UI (Map, Steer, Statistics) over HTTP and a
 //! WebSocket, for a simulation or for real robots.
 //!
-//! One thread runs the [`Session`](session::Session) (the model and the
+//! One thread runs the [`Session`] (the model and the
 //! team); the async side only routes requests to it and fans its pushes out
 //! to every page. The page itself is three files built into the binary, so
 //! it needs nothing from the internet and works on a phone on the same

@@ -5,7 +5,7 @@
 //! has a [`SimRobot`] proxy on the phone side, joined to it by two lossy
 //! [`Channel`](channel::Channel)s that carry the real encoded frames. The
 //! phone side is the same as with real robots: proxies, the handler
-//! [`Chain`], the relay and the [`Environment`].
+//! [`Chain`](crate::handlers::Chain), the relay and the [`Environment`].
 //!
 //! Time advances from event to event (a body finishing an action, bytes
 //! arriving, a fault) and at least every [`SimConfig::tick_ms`] for the

@@ -1,5 +1,5 @@
 //! A simulated robot's firmware: the core-algo [`Agent`] behind the real
-//! reliable [`Link`], with the body's sensors as its input. This is what
+//! reliable [`Link`](core_algo::protocol::link::Link), with the body's sensors as its input. This is what
 //! runs on an e-puck2, minus the line following (the body model drives
 //! edges whole).
 
