@@ -261,6 +261,61 @@ fn a_new_node_ends_the_commitment() {
     assert_eq!(d.next, Some(Heading::West));
 }
 
+/// `share_slack`: a kept share survives that many map changes and no
+/// more; a kept wait survives none.
+#[test]
+fn a_share_survives_as_many_map_changes_as_its_slack() {
+    let b = crate::map::Bounds::new(Pos::new(0, 0), 8, 1);
+    let mut map = KnownMap::new(vec![Block::EMPTY; crate::map::blocks_for(b.area())], b).unwrap();
+    let line = crate::geometry::Arms::NONE
+        .with(Heading::East)
+        .with(Heading::West);
+    for x in 2..6 {
+        map.visit(Pos::new(x, 0), line, crate::team::RobotId(0))
+            .unwrap();
+    }
+    let mut robots = [RobotView {
+        pos: Pos::new(4, 0),
+        heading: Heading::East,
+        eta: 0,
+        home: Pos::new(4, 0),
+        target: None,
+    }];
+    fn ctx<'a>(map: &'a KnownMap<Vec<Block>>, robots: &'a [RobotView]) -> Context<'a, Vec<Block>> {
+        Context {
+            map,
+            timing: Timing::DEFAULT,
+            robots,
+            me: 0,
+        }
+    }
+    let share = Commitment::after(
+        &ctx(&map, &robots),
+        b.index(Pos::new(6, 0)),
+        Some(Heading::East),
+    )
+    .unwrap();
+    let wait = Commitment::after(&ctx(&map, &robots), None, None).unwrap();
+    assert!(wait.holds(&ctx(&map, &robots), 3));
+    // It drives to 5, where the share's decision left it; far behind it,
+    // node 1 becomes known (one change), then node 0 (two).
+    robots[0].pos = Pos::new(5, 0);
+    map.visit(Pos::new(1, 0), line, crate::team::RobotId(1))
+        .unwrap();
+    assert!(!share.holds(&ctx(&map, &robots), 0));
+    assert!(share.holds(&ctx(&map, &robots), 1));
+    map.visit(
+        Pos::new(0, 0),
+        crate::geometry::Arms::NONE.with(Heading::East),
+        crate::team::RobotId(1),
+    )
+    .unwrap();
+    assert!(!share.holds(&ctx(&map, &robots), 1));
+    assert!(share.holds(&ctx(&map, &robots), 2));
+    robots[0].pos = Pos::new(4, 0);
+    assert!(!wait.holds(&ctx(&map, &robots), 3));
+}
+
 /// A robot without a share trails to a far frontier node only in a sparse
 /// team (enough of the map window per robot), and waits in a crowded one.
 #[test]
