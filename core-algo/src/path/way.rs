@@ -3,7 +3,8 @@
 //! that node?" costs one look-up instead of a walk.
 
 use super::{
-    Back, DistField, Flow, Marked, ON_WAY, PlanCell, State, Vias, arms_at, neighbour_index,
+    Back, DistField, Flow, MAX_VIAS, Marked, ON_WAY, PlanCell, State, Vias, arms_at,
+    neighbour_index,
 };
 use crate::geometry::{Heading, Pos};
 use crate::map::{Block, KnownMap};
@@ -238,8 +239,6 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// before ours, seen from home?); in a crowded maze the walks were most
     /// of the run. A search still in progress, or more than [`MAX_VIAS`]
     /// nodes, just walk.
-    ///
-    /// [`MAX_VIAS`]: super::MAX_VIAS
     pub fn passes_any<M: AsRef<[Block]> + AsMut<[Block]>>(
         &mut self,
         map: &KnownMap<M>,
@@ -248,13 +247,14 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     ) -> bool {
         let q = &self.queue;
         let complete = q.a_len == 0 && q.b_len == 0 && q.pending.is_none();
-        let key = Vias::from_slice(vias).ok();
-        let Some(key) = key.filter(|_| complete && self.tree == Some(map.revision())) else {
+        let rev = map.revision();
+        if !complete || self.tree != Some(rev) || vias.len() > MAX_VIAS {
             return vias.iter().any(|&via| self.path_passes(map, v, via));
-        };
-        if self.memo.as_ref() != Some(&(key.clone(), map.revision())) {
+        }
+        let same = matches!(&self.memo, Some((k, r)) if *r == rev && k.as_slice() == vias);
+        if !same {
             self.clear_memo();
-            self.memo = Some((key, map.revision()));
+            self.memo = Vias::from_slice(vias).ok().map(|k| (k, rev));
         }
         // Distances fall along the walk back: below the nearest via's, it
         // cannot meet any of them any more.
