@@ -207,26 +207,39 @@ proptest! {
     }
 }
 
-/// A changed map ends the commitment: the share is chosen afresh.
-#[test]
-fn a_new_node_ends_the_commitment() {
+/// A corridor 8 nodes long with nodes 2 to 5 visited (frontier at 1 and
+/// 6), and a robot at home on node 4 facing east.
+fn corridor() -> (KnownMap<Vec<Block>>, RobotView) {
     let b = crate::map::Bounds::new(Pos::new(0, 0), 8, 1);
     let mut map = KnownMap::new(vec![Block::EMPTY; crate::map::blocks_for(b.area())], b).unwrap();
-    let line = crate::geometry::Arms::NONE
-        .with(Heading::East)
-        .with(Heading::West);
     for x in 2..6 {
-        map.visit(Pos::new(x, 0), line, crate::team::RobotId(0))
+        map.visit(Pos::new(x, 0), line(), crate::team::RobotId(0))
             .unwrap();
     }
-    // Frontier at x = 1 and x = 6; the robot at 4 facing east takes 6.
-    let mut robots = [RobotView {
+    let robot = RobotView {
         pos: Pos::new(4, 0),
         heading: Heading::East,
         eta: 0,
         home: Pos::new(4, 0),
         target: None,
-    }];
+    };
+    (map, robot)
+}
+
+/// Arms east and west.
+fn line() -> crate::geometry::Arms {
+    crate::geometry::Arms::NONE
+        .with(Heading::East)
+        .with(Heading::West)
+}
+
+/// A changed map ends the commitment: the share is chosen afresh.
+#[test]
+fn a_new_node_ends_the_commitment() {
+    let (mut map, robot) = corridor();
+    let b = map.bounds();
+    // Frontier at x = 1 and x = 6; the robot at 4 facing east takes 6.
+    let mut robots = [robot];
     let mut fields = [DistField::new(vec![PlanCell::EMPTY; min_cells(b.area())])];
     let mut tempo = Tempo::new(TempoConfig {
         home_pull_pct: 0,
@@ -265,22 +278,9 @@ fn a_new_node_ends_the_commitment() {
 /// more; a kept wait survives none.
 #[test]
 fn a_share_survives_as_many_map_changes_as_its_slack() {
-    let b = crate::map::Bounds::new(Pos::new(0, 0), 8, 1);
-    let mut map = KnownMap::new(vec![Block::EMPTY; crate::map::blocks_for(b.area())], b).unwrap();
-    let line = crate::geometry::Arms::NONE
-        .with(Heading::East)
-        .with(Heading::West);
-    for x in 2..6 {
-        map.visit(Pos::new(x, 0), line, crate::team::RobotId(0))
-            .unwrap();
-    }
-    let mut robots = [RobotView {
-        pos: Pos::new(4, 0),
-        heading: Heading::East,
-        eta: 0,
-        home: Pos::new(4, 0),
-        target: None,
-    }];
+    let (mut map, robot) = corridor();
+    let b = map.bounds();
+    let mut robots = [robot];
     fn ctx<'a>(map: &'a KnownMap<Vec<Block>>, robots: &'a [RobotView]) -> Context<'a, Vec<Block>> {
         Context {
             map,
@@ -300,7 +300,7 @@ fn a_share_survives_as_many_map_changes_as_its_slack() {
     // It drives to 5, where the share's decision left it; far behind it,
     // node 1 becomes known (one change), then node 0 (two).
     robots[0].pos = Pos::new(5, 0);
-    map.visit(Pos::new(1, 0), line, crate::team::RobotId(1))
+    map.visit(Pos::new(1, 0), line(), crate::team::RobotId(1))
         .unwrap();
     assert!(!share.holds(&ctx(&map, &robots), 0));
     assert!(share.holds(&ctx(&map, &robots), 1));
