@@ -126,61 +126,84 @@ where
         // Room for the goal and every team mate: neither can fail.
         let _ = behind.push(goal);
         let _ = behind.extend_from_slice(&earlier);
-        let mut free = |v: usize| {
+        let occupied = |v: usize| {
+            let p = bounds.pos(v);
+            peers
+                .iter()
+                .enumerate()
+                .any(|(i, q)| i != me && q.known && !q.failed && q.pos == p)
+        };
+        // `ahead`: any spot off the bumper's way that nobody stands on will
+        // do, even a team mate's empty home or one behind a home as seen
+        // from ours (the second pass below).
+        let mut free = |v: usize, ahead: bool| {
             v != blocked
                 && !theirs.path_passes(map, goal, v)
-                && !claimed(v)
-                && !homeward
-                    .as_mut()
-                    .is_some_and(|f| f.passes_any(map, v, &behind))
+                && !(if ahead { occupied(v) } else { claimed(v) })
+                && (ahead
+                    || !homeward
+                        .as_mut()
+                        .is_some_and(|f| f.passes_any(map, v, &behind)))
         };
         let pose = (self.pos, self.heading);
-        let mut first = true;
-        // The nearest spot whose way runs through a team mate standing
-        // elsewhere: taken only if no spot is free of them (the team mate
-        // is then asked to make way in turn, see `on_bumped`).
-        let mut through_mate = None;
-        // Looked for only among the next few spots after it: in a maze
-        // every spot can lie behind a team mate, and checking the whole
-        // field, each spot's way against each team mate, took minutes.
-        let mut looks_left = SPOTS_PAST_A_MATE;
-        loop {
-            let next = mine.next_where(map, timing, pose, first, |v, d| d > 0 && free(v));
-            first = false;
-            let v = match next {
-                Ok(Some(v)) => v,
-                Ok(None) if through_mate.is_none() => break,
-                _ => return through_mate,
-            };
-            if !mine.path_passes(map, v, blocked) {
-                // Only a bumper whose way comes through here can be seen to
-                // pass; one that bumped us on its way elsewhere (to a retreat
-                // spot of its own, say) cannot.
-                let through_here = bounds
-                    .index(self.pos)
-                    .filter(|&h| theirs.path_passes(map, goal, h));
-                let leave = through_here.and_then(|h| {
-                    mine.first_back(map, v, |u| u == h || theirs.path_passes(map, goal, u))
-                });
-                let spot = Some((bounds.pos(v), leave.map(|u| bounds.pos(u))));
-                let blocked_by_mate = peers.iter().enumerate().any(|(i, q)| {
-                    i != me
-                        && q.known
-                        && !q.failed
-                        && bounds
-                            .index(q.pos)
-                            .is_some_and(|at| at != blocked && mine.path_passes(map, v, at))
-                });
-                if !blocked_by_mate {
-                    return spot;
-                }
-                through_mate = through_mate.or(spot);
+        let here = bounds.index(self.pos);
+        // Only a bumper whose way comes through here can be seen to pass
+        // (one that bumped us on its way elsewhere, to a retreat spot of its
+        // own, say, cannot); and only then are we ahead of it on its way.
+        let through_here = here.filter(|&h| theirs.path_passes(map, goal, h));
+        // Standing ahead of the bumper on its way, with no spot that passes
+        // every check: look again for any spot off its way that we reach
+        // without passing it, before pushing back through it. In a long
+        // corridor home the only spots that passed lay behind the bumper,
+        // and pushing back through it (and whoever followed it) had three
+        // robots dance in a maze corridor until the time limit
+        // (docs/results/system.md, stop 25).
+        for ahead in [false, true] {
+            if ahead && through_here.is_none() {
+                break;
             }
-            if through_mate.is_some() {
-                if looks_left == 0 {
-                    return through_mate;
+            let mut first = true;
+            // The nearest spot whose way runs through a team mate standing
+            // elsewhere: taken only if no spot is free of them (the team
+            // mate is then asked to make way in turn, see `on_bumped`).
+            let mut through_mate = None;
+            // Looked for only among the next few spots after it: in a maze
+            // every spot can lie behind a team mate, and checking the whole
+            // field, each spot's way against each team mate, took minutes.
+            let mut looks_left = SPOTS_PAST_A_MATE;
+            loop {
+                let next =
+                    mine.next_where(map, timing, pose, first, |v, d| d > 0 && free(v, ahead));
+                first = false;
+                let v = match next {
+                    Ok(Some(v)) => v,
+                    Ok(None) if through_mate.is_none() => break,
+                    _ => return through_mate,
+                };
+                if !mine.path_passes(map, v, blocked) {
+                    let leave = through_here.and_then(|h| {
+                        mine.first_back(map, v, |u| u == h || theirs.path_passes(map, goal, u))
+                    });
+                    let spot = Some((bounds.pos(v), leave.map(|u| bounds.pos(u))));
+                    let blocked_by_mate = peers.iter().enumerate().any(|(i, q)| {
+                        i != me
+                            && q.known
+                            && !q.failed
+                            && bounds
+                                .index(q.pos)
+                                .is_some_and(|at| at != blocked && mine.path_passes(map, v, at))
+                    });
+                    if !blocked_by_mate {
+                        return spot;
+                    }
+                    through_mate = through_mate.or(spot);
                 }
-                looks_left -= 1;
+                if through_mate.is_some() {
+                    if looks_left == 0 {
+                        return through_mate;
+                    }
+                    looks_left -= 1;
+                }
             }
         }
         // Every spot lies behind the bumper (we stand in a dead end, or
@@ -188,10 +211,9 @@ where
         // nearest free spot past a node where it can step aside off our
         // way; bumped on that way, it retreats off it in turn (see
         // `on_bumped`), and once we are past it, it can get home.
-        let here = bounds.index(self.pos);
         let mut first = true;
         for _ in 0..PUSH_SPOTS {
-            let next = mine.next_where(map, timing, pose, first, |v, d| d > 0 && free(v));
+            let next = mine.next_where(map, timing, pose, first, |v, d| d > 0 && free(v, false));
             first = false;
             let v = next.ok().flatten()?;
             let aside = |u: usize| {
@@ -441,6 +463,77 @@ mod tests {
             })
         );
         assert!(out.contains(&Command::Move), "{out:?}");
+    }
+
+    /// A corridor home, (0, 6) down to the dead end (0, 0), with a side arm
+    /// at (0, 2) to (1, 2). Robot 1 (home (0, 1)) stands at (0, 4), robot 0
+    /// (home (0, 0), deeper) right behind it at (0, 5), robot 2 (home
+    /// (1, 2)) far behind at (0, 6).
+    fn corridor_home() -> ThreeFields {
+        let bounds = Bounds::new(Pos::new(0, 0), 2, 7);
+        let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(bounds.area())], bounds).unwrap();
+        let ns = Arms::NONE.with(Heading::North).with(Heading::South);
+        let nodes = [
+            (0, 0, Arms::NONE.with(Heading::North)),
+            (0, 1, ns),
+            (0, 2, ns.with(Heading::East)),
+            (1, 2, Arms::NONE.with(Heading::West)),
+            (0, 3, ns),
+            (0, 4, ns),
+            (0, 5, ns),
+            (0, 6, Arms::NONE.with(Heading::South)),
+        ];
+        for (x, y, arms) in nodes {
+            map.visit(Pos::new(x, y), arms, RobotId(0)).unwrap();
+        }
+        assert!(map.is_complete());
+        let fields = core::array::from_fn(|_| {
+            DistField::new(vec![PlanCell::EMPTY; min_cells(bounds.area())])
+        });
+        let mut a = Agent::new(
+            RobotId(1),
+            map,
+            fields,
+            NearestFrontier,
+            AgentConfig::default(),
+        );
+        a.pos = Pos::new(0, 4);
+        a.heading = Heading::South;
+        a.home = Pos::new(0, 1);
+        a.mode = Mode::Return;
+        let mate = |pos, home| Peer {
+            known: true,
+            pos,
+            home,
+            heading: Heading::South,
+            ..NO_PEER
+        };
+        a.peers[0] = mate(Pos::new(0, 5), Pos::new(0, 0));
+        a.peers[2] = mate(Pos::new(0, 6), Pos::new(1, 2));
+        a
+    }
+
+    /// Ahead of the bumper on its way home, with no spot that passes every
+    /// check (the side arm is a team mate's home), a robot steps into that
+    /// empty home ahead rather than pushing back through the bumper: in a
+    /// maze corridor the push had three robots dance until the time limit.
+    #[test]
+    fn ahead_of_the_bumper_steps_aside_ahead_not_back_through_it() {
+        let mut a = corridor_home();
+        // The bumper's way home, in the first field, as `plan_retreat` plans it.
+        let (_, goal) = a.plan_way_of(0, false).unwrap();
+        assert_eq!(goal, a.map.bounds().index(Pos::new(0, 0)).unwrap());
+        assert_eq!(
+            a.retreat_spot(goal, Pos::new(0, 5)),
+            Some((Pos::new(1, 2), Some(Pos::new(0, 2))))
+        );
+        // Someone standing on that home: nowhere ahead to go.
+        a.peers[2].pos = Pos::new(1, 2);
+        a.plan_way_of(0, false).unwrap();
+        assert_ne!(
+            a.retreat_spot(goal, Pos::new(0, 5)).map(|(spot, _)| spot),
+            Some(Pos::new(1, 2))
+        );
     }
 
     /// With the side arm someone's home there is no room aside anywhere:
