@@ -87,6 +87,7 @@ where
     fn retreat_spot(&mut self, goal: usize, from: Pos) -> Option<(Pos, Option<Pos>)> {
         let bounds = self.map.bounds();
         let blocked = bounds.index(from)?;
+        let far_from_home = self.may_follow();
         // Homes of team mates that fill before ours: a spot whose way home
         // runs through one is a trap once that team mate is in (as in
         // `keep_out_of_the_way`).
@@ -134,16 +135,19 @@ where
                 .any(|(i, q)| i != me && q.known && !q.failed && q.pos == p)
         };
         // `ahead`: any spot off the bumper's way that nobody stands on will
-        // do, even a team mate's empty home or one behind a home as seen
-        // from ours (the second pass below).
+        // do, even a team mate's empty home or one behind an earlier home
+        // as seen from ours, but not one behind the bumper's goal (the
+        // second pass below).
         let mut free = |v: usize, ahead: bool| {
             v != blocked
                 && !theirs.path_passes(map, goal, v)
                 && !(if ahead { occupied(v) } else { claimed(v) })
-                && (ahead
-                    || !homeward
-                        .as_mut()
-                        .is_some_and(|f| f.passes_any(map, v, &behind)))
+                && !homeward.as_mut().is_some_and(|f| {
+                    // The goal comes first: behind it, we would be shut in
+                    // for good once the bumper is home.
+                    let set = if ahead { behind.get(..1) } else { None };
+                    f.passes_any(map, v, set.unwrap_or(&behind))
+                })
         };
         let pose = (self.pos, self.heading);
         let here = bounds.index(self.pos);
@@ -151,15 +155,16 @@ where
         // (one that bumped us on its way elsewhere, to a retreat spot of its
         // own, say, cannot); and only then are we ahead of it on its way.
         let through_here = here.filter(|&h| theirs.path_passes(map, goal, h));
-        // Standing ahead of the bumper on its way, with no spot that passes
-        // every check: look again for any spot off its way that we reach
-        // without passing it, before pushing back through it. In a long
-        // corridor home the only spots that passed lay behind the bumper,
-        // and pushing back through it (and whoever followed it) had three
-        // robots dance in a maze corridor until the time limit
+        // Standing ahead of the bumper on its way, far from home, with no
+        // spot that passes every check: look again for any spot off its way
+        // that we reach without passing it, before pushing back through it.
+        // In a long maze corridor home the only spots that passed lay behind
+        // the bumper, and pushing back through it (and whoever followed it)
+        // had three robots dance until the time limit. Near the homes, the
+        // same steps into empty homes swapped robots in a cycle of homes
         // (docs/results/system.md, stop 25).
         for ahead in [false, true] {
-            if ahead && through_here.is_none() {
+            if ahead && (through_here.is_none() || !far_from_home) {
                 break;
             }
             let mut first = true;
@@ -195,6 +200,17 @@ where
                     });
                     if !blocked_by_mate {
                         return spot;
+                    }
+                    if ahead {
+                        // Ahead, only a spot free of team mates: the way
+                        // to one through a team mate led back into the
+                        // crowd at the homes, and 16-robot mazes deadlocked
+                        // there (docs/results/system.md, stop 25).
+                        if looks_left == 0 {
+                            break;
+                        }
+                        looks_left -= 1;
+                        continue;
                     }
                     through_mate = through_mate.or(spot);
                 }
@@ -286,7 +302,8 @@ where
         })
     }
 
-    /// Whether a retreat may end to follow the team mate it made way for:
+    /// Whether a retreat may end to follow the team mate it made way for
+    /// (or, see `retreat_spot`, step aside ahead of it into any free spot):
     /// only far from home. Near the homes the order in which robots arrive
     /// decides whether they can get in at all (a follower that arrives
     /// right behind a deeper team mate can end up swapped with it in a
@@ -465,25 +482,24 @@ mod tests {
         assert!(out.contains(&Command::Move), "{out:?}");
     }
 
-    /// A corridor home, (0, 6) down to the dead end (0, 0), with a side arm
-    /// at (0, 2) to (1, 2). Robot 1 (home (0, 1)) stands at (0, 4), robot 0
-    /// (home (0, 0), deeper) right behind it at (0, 5), robot 2 (home
-    /// (1, 2)) far behind at (0, 6).
-    fn corridor_home() -> ThreeFields {
-        let bounds = Bounds::new(Pos::new(0, 0), 2, 7);
+    /// A corridor home, (0, `len`) down to the dead end (0, 0), with side
+    /// arms at (0, 2) to (1, 2) and at (0, 0) to (1, 0). Robot 1 (home
+    /// (0, 1)) stands at (0, `len` - 2), robot 0 (home (0, 0), deeper)
+    /// right behind it, robot 2 (home (1, 2)) far behind at (0, `len`).
+    fn corridor_home(len: i16) -> ThreeFields {
+        let bounds = Bounds::new(Pos::new(0, 0), 2, len as u16 + 1);
         let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(bounds.area())], bounds).unwrap();
         let ns = Arms::NONE.with(Heading::North).with(Heading::South);
-        let nodes = [
-            (0, 0, Arms::NONE.with(Heading::North)),
-            (0, 1, ns),
+        let west = Arms::NONE.with(Heading::West);
+        let sides = [
+            (0, 0, Arms::NONE.with(Heading::North).with(Heading::East)),
+            (1, 0, west),
             (0, 2, ns.with(Heading::East)),
-            (1, 2, Arms::NONE.with(Heading::West)),
-            (0, 3, ns),
-            (0, 4, ns),
-            (0, 5, ns),
-            (0, 6, Arms::NONE.with(Heading::South)),
+            (1, 2, west),
+            (0, len, Arms::NONE.with(Heading::South)),
         ];
-        for (x, y, arms) in nodes {
+        let corridor = (1..len).filter(|&y| y != 2).map(|y| (0, y, ns));
+        for (x, y, arms) in sides.into_iter().chain(corridor) {
             map.visit(Pos::new(x, y), arms, RobotId(0)).unwrap();
         }
         assert!(map.is_complete());
@@ -497,7 +513,7 @@ mod tests {
             NearestFrontier,
             AgentConfig::default(),
         );
-        a.pos = Pos::new(0, 4);
+        a.pos = Pos::new(0, len - 2);
         a.heading = Heading::South;
         a.home = Pos::new(0, 1);
         a.mode = Mode::Return;
@@ -508,32 +524,48 @@ mod tests {
             heading: Heading::South,
             ..NO_PEER
         };
-        a.peers[0] = mate(Pos::new(0, 5), Pos::new(0, 0));
-        a.peers[2] = mate(Pos::new(0, 6), Pos::new(1, 2));
+        a.peers[0] = mate(Pos::new(0, len - 1), Pos::new(0, 0));
+        a.peers[2] = mate(Pos::new(0, len), Pos::new(1, 2));
         a
     }
 
-    /// Ahead of the bumper on its way home, with no spot that passes every
-    /// check (the side arm is a team mate's home), a robot steps into that
-    /// empty home ahead rather than pushing back through the bumper: in a
-    /// maze corridor the push had three robots dance until the time limit.
+    /// Ahead of the bumper on its way home and far from our own, with no
+    /// spot that passes every check (the side arm is a team mate's home), a
+    /// robot steps into that empty home ahead rather than pushing back
+    /// through the bumper: in a maze corridor the push had three robots
+    /// dance until the time limit. Never behind the bumper's goal, though
+    /// (shut in for good once it is home), never through a team mate, and
+    /// never near home, where such steps swapped robots in a cycle of homes.
     #[test]
     fn ahead_of_the_bumper_steps_aside_ahead_not_back_through_it() {
-        let mut a = corridor_home();
+        let mut a = corridor_home(13);
         // The bumper's way home, in the first field, as `plan_retreat` plans it.
         let (_, goal) = a.plan_way_of(0, false).unwrap();
         assert_eq!(goal, a.map.bounds().index(Pos::new(0, 0)).unwrap());
         assert_eq!(
-            a.retreat_spot(goal, Pos::new(0, 5)),
+            a.retreat_spot(goal, Pos::new(0, 12)),
             Some((Pos::new(1, 2), Some(Pos::new(0, 2))))
         );
-        // Someone standing on that home: nowhere ahead to go.
+        // Someone standing on that home: the only spot ahead, (1, 0), lies
+        // behind the bumper's goal, and there is no room to push.
         a.peers[2].pos = Pos::new(1, 2);
         a.plan_way_of(0, false).unwrap();
-        assert_ne!(
-            a.retreat_spot(goal, Pos::new(0, 5)).map(|(spot, _)| spot),
-            Some(Pos::new(1, 2))
-        );
+        assert_eq!(a.retreat_spot(goal, Pos::new(0, 12)), None);
+        // A team mate standing in the corridor ahead: no spot through it.
+        let mut a = corridor_home(13);
+        a.peers[3] = Peer {
+            known: true,
+            pos: Pos::new(0, 6),
+            home: Pos::new(0, 6),
+            heading: Heading::South,
+            ..NO_PEER
+        };
+        let (_, goal) = a.plan_way_of(0, false).unwrap();
+        assert_eq!(a.retreat_spot(goal, Pos::new(0, 12)), None);
+        // Near home (3 edges), not even the empty home.
+        let mut a = corridor_home(6);
+        let (_, goal) = a.plan_way_of(0, false).unwrap();
+        assert_eq!(a.retreat_spot(goal, Pos::new(0, 5)), None);
     }
 
     /// With the side arm someone's home there is no room aside anywhere:
