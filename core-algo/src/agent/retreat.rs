@@ -82,7 +82,9 @@ where
     /// through the bumper; and the node where our way there leaves the
     /// bumper's way (where we stand, at the latest; `None` if its way does
     /// not come through here). If every such node lies behind the bumper,
-    /// a push spot through it (see the end). Plans in the second field;
+    /// and we stand ahead of it on its way far from home, any free node
+    /// off its way reached past no team mate (the second pass); else a
+    /// push spot through it (see the end). Plans in the second field;
     /// `None` with a single field or if there is no such node.
     fn retreat_spot(&mut self, goal: usize, from: Pos) -> Option<(Pos, Option<Pos>)> {
         let bounds = self.map.bounds();
