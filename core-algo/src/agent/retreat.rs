@@ -412,22 +412,29 @@ mod tests {
     /// at (0, 1) and its home is (0, 0): the two are swapped. `homes`
     /// lists more team mates' homes (they stand at home).
     fn swapped(homes: &[Pos]) -> ThreeFields {
-        let bounds = Bounds::new(Pos::new(0, 0), 2, 4);
-        let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(bounds.area())], bounds).unwrap();
+        let ns = Arms::NONE.with(Heading::North).with(Heading::South);
         let nodes = [
             (0, 0, Arms::NONE.with(Heading::North)),
-            (0, 1, Arms::NONE.with(Heading::North).with(Heading::South)),
-            (
-                0,
-                2,
-                Arms::NONE
-                    .with(Heading::North)
-                    .with(Heading::South)
-                    .with(Heading::East),
-            ),
+            (0, 1, ns),
+            (0, 2, ns.with(Heading::East)),
             (1, 2, Arms::NONE.with(Heading::West)),
             (0, 3, Arms::NONE.with(Heading::South)),
         ];
+        let mut a = returning(Bounds::new(Pos::new(0, 0), 2, 4), nodes);
+        a.pos = Pos::new(0, 0);
+        a.heading = Heading::North;
+        a.home = Pos::new(0, 1);
+        a.peers[0] = mate(Pos::new(0, 1), Pos::new(0, 0));
+        for (i, &home) in homes.iter().enumerate() {
+            a.peers[i + 2] = mate(home, home);
+        }
+        a
+    }
+
+    /// Robot 1 on its way home (no pose or home set yet) on the complete
+    /// map of `nodes`.
+    fn returning(bounds: Bounds, nodes: impl IntoIterator<Item = (i16, i16, Arms)>) -> ThreeFields {
+        let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(bounds.area())], bounds).unwrap();
         for (x, y, arms) in nodes {
             map.visit(Pos::new(x, y), arms, RobotId(0)).unwrap();
         }
@@ -442,22 +449,19 @@ mod tests {
             NearestFrontier,
             AgentConfig::default(),
         );
-        a.pos = Pos::new(0, 0);
-        a.heading = Heading::North;
-        a.home = Pos::new(0, 1);
         a.mode = Mode::Return;
-        let mate = |pos, home| Peer {
+        a
+    }
+
+    /// A known team mate at `pos`, heading south, whose home is `home`.
+    fn mate(pos: Pos, home: Pos) -> Peer {
+        Peer {
             known: true,
             pos,
             home,
             heading: Heading::South,
             ..NO_PEER
-        };
-        a.peers[0] = mate(Pos::new(0, 1), Pos::new(0, 0));
-        for (i, &home) in homes.iter().enumerate() {
-            a.peers[i + 2] = mate(home, home);
         }
-        a
     }
 
     /// Shut in behind the team mate it must make way for, a robot pushes
@@ -489,8 +493,6 @@ mod tests {
     /// (0, 1)) stands at (0, `len` - 2), robot 0 (home (0, 0), deeper)
     /// right behind it, robot 2 (home (1, 2)) far behind at (0, `len`).
     fn corridor_home(len: i16) -> ThreeFields {
-        let bounds = Bounds::new(Pos::new(0, 0), 2, len as u16 + 1);
-        let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(bounds.area())], bounds).unwrap();
         let ns = Arms::NONE.with(Heading::North).with(Heading::South);
         let west = Arms::NONE.with(Heading::West);
         let sides = [
@@ -501,31 +503,11 @@ mod tests {
             (0, len, Arms::NONE.with(Heading::South)),
         ];
         let corridor = (1..len).filter(|&y| y != 2).map(|y| (0, y, ns));
-        for (x, y, arms) in sides.into_iter().chain(corridor) {
-            map.visit(Pos::new(x, y), arms, RobotId(0)).unwrap();
-        }
-        assert!(map.is_complete());
-        let fields = core::array::from_fn(|_| {
-            DistField::new(vec![PlanCell::EMPTY; min_cells(bounds.area())])
-        });
-        let mut a = Agent::new(
-            RobotId(1),
-            map,
-            fields,
-            NearestFrontier,
-            AgentConfig::default(),
-        );
+        let bounds = Bounds::new(Pos::new(0, 0), 2, len as u16 + 1);
+        let mut a = returning(bounds, sides.into_iter().chain(corridor));
         a.pos = Pos::new(0, len - 2);
         a.heading = Heading::South;
         a.home = Pos::new(0, 1);
-        a.mode = Mode::Return;
-        let mate = |pos, home| Peer {
-            known: true,
-            pos,
-            home,
-            heading: Heading::South,
-            ..NO_PEER
-        };
         a.peers[0] = mate(Pos::new(0, len - 1), Pos::new(0, 0));
         a.peers[2] = mate(Pos::new(0, len), Pos::new(1, 2));
         a
@@ -555,13 +537,7 @@ mod tests {
         assert_eq!(a.retreat_spot(goal, Pos::new(0, 12)), None);
         // A team mate standing in the corridor ahead: no spot through it.
         let mut a = corridor_home(13);
-        a.peers[3] = Peer {
-            known: true,
-            pos: Pos::new(0, 6),
-            home: Pos::new(0, 6),
-            heading: Heading::South,
-            ..NO_PEER
-        };
+        a.peers[3] = mate(Pos::new(0, 6), Pos::new(0, 6));
         let (_, goal) = a.plan_way_of(0, false).unwrap();
         assert_eq!(a.retreat_spot(goal, Pos::new(0, 12)), None);
         // Near home (3 edges), not even the empty home.
