@@ -145,10 +145,10 @@ where
                 && !theirs.path_passes(map, goal, v)
                 && !(if ahead { occupied(v) } else { claimed(v) })
                 && !homeward.as_mut().is_some_and(|f| {
-                    // The goal comes first: behind it, we would be shut in
-                    // for good once the bumper is home.
-                    let set = if ahead { behind.get(..1) } else { None };
-                    f.passes_any(map, v, set.unwrap_or(&behind))
+                    // Ahead, only the goal counts: behind it, we would be
+                    // shut in for good once the bumper is home.
+                    let set = if ahead { &[goal][..] } else { &behind[..] };
+                    f.passes_any(map, v, set)
                 })
         };
         let pose = (self.pos, self.heading);
