@@ -30,6 +30,12 @@
 //! end lies near home, on the way back. The way home after the map is
 //! complete fell from 0.45 to 0.39 lower bounds (docs/results/exploration.md).
 //!
+//! A robot keeps its share without re-assigning while the map is unchanged
+//! (exact, see `Commitment`), and through corridors whatever changed: on a
+//! node with two known arms a fresh decision could only turn it back, and
+//! deciding at every corridor node was a third of the decisions in a
+//! 16-robot maze, each over most of the map (`corridor_keeps_share`).
+//!
 //! Knobs tried and measured (docs/results/exploration.md), off by default
 //! because they did not pay on the benchmark fields:
 //! - a penalty on frontier nodes with three visited neighbours (they become
@@ -41,7 +47,11 @@
 //! - a share kept through a few map changes (`share_slack`): with 16, a
 //!   third to a half of the wall time on large mazes and rooms, even on
 //!   64² fields, but open 256² with 16 robots took 6.7 % longer and 1.6×
-//!   the wall time; on small fields 2 and 8 cost 0.9 % and 1.9 %.
+//!   the wall time; on small fields 2 and 8 cost 0.9 % and 1.9 %;
+//! - a wait kept while the frontier does not grow (up to two map changes):
+//!   a robot that waits decides again at every map change, but keeping the
+//!   wait cost 6 % on 40² fields with 10 and 16 robots, and one of 64 runs
+//!   did not get home.
 
 use super::assign::{AssignmentObjective, Candidates, hungarian_cols};
 use super::{Context, Decision, Strategy, explore_decision, go_home, nearest_or_home};
@@ -101,6 +111,16 @@ pub struct TempoConfig {
     /// team is re-assigned (0: only an unchanged map keeps it, which loses
     /// no optimal assignment; see `Commitment`).
     pub share_slack: u32,
+    /// With `keep_share`: a robot on a corridor node (two known arms) keeps
+    /// its share whatever changed in the map, as long as the share is still
+    /// a frontier node, and decides afresh at the next junction. There the
+    /// fresh decision could only turn it back, and did so in one of 13
+    /// corridor decisions of a 16-robot 64² maze; a full decision at every
+    /// corridor node was a third of such a run's decisions, each growing
+    /// fields over most of the maze. Not exact, unlike an unchanged map:
+    /// measured neutral on small and 64² fields and 4–5 % shorter on large
+    /// mazes (docs/results/performance.md, stop 26).
+    pub corridor_keeps_share: bool,
 }
 
 impl TempoConfig {
@@ -128,6 +148,7 @@ impl Default for TempoConfig {
             squared: false,
             home_pull_pct: 25,
             share_slack: 0,
+            corridor_keeps_share: true,
         }
     }
 }
@@ -171,7 +192,7 @@ where
         let cfg = self.config;
         let kept = self.kept.get_mut(me).and_then(Option::take);
         if let (true, Some(c)) = (cfg.keep_share, kept) {
-            if c.holds(ctx, cfg.share_slack) {
+            if c.holds(ctx, cfg.share_slack, cfg.corridor_keeps_share) {
                 match (c.share(), fields.get_mut(me), ctx.my()) {
                     (None, ..) => {
                         self.keep(ctx, None, WAIT);

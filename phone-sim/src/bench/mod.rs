@@ -55,21 +55,23 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
         "minpos" => Box::new(MinPos),
         "tempo" => Box::new(Tempo::default()),
         other => {
-            // `tempo:<deduce edges>:<endgame 0|1>:<idle: 0 trail, 1 home, 2 stay>:<spread>:<squared 0|1>[:<trail edges>[:<home pull %>[:<trail team>[:<keep share 0|1>[:<trail far, nodes per robot>[:<share slack, map changes>]]]]]]`
-            // for ablations; a field left out is off (keep share: on).
+            // `tempo:<deduce edges>:<endgame 0|1>:<idle: 0 trail, 1 home, 2 stay>:<spread>:<squared 0|1>[:<trail edges>[:<home pull %>[:<trail team>[:<keep share 0|1>[:<trail far, nodes per robot>[:<share slack, map changes>[:<corridor keeps share 0|1>]]]]]]]`
+            // for ablations; a field left out is off (keep share and
+            // corridor keeps share: on).
             let rest = other.strip_prefix("tempo:")?;
             let v: Vec<u32> = rest
                 .split(':')
                 .map(|x| x.parse().ok())
                 .collect::<Option<_>>()?;
-            let (d, e, i, s, q, t, h, k, c, f, l) = match v[..] {
-                [d, e, i, s, q] => (d, e, i, s, q, 0, 0, u32::MAX, 1, 0, 0),
-                [d, e, i, s, q, t] => (d, e, i, s, q, t, 0, u32::MAX, 1, 0, 0),
-                [d, e, i, s, q, t, h] => (d, e, i, s, q, t, h, u32::MAX, 1, 0, 0),
-                [d, e, i, s, q, t, h, k] => (d, e, i, s, q, t, h, k, 1, 0, 0),
-                [d, e, i, s, q, t, h, k, c] => (d, e, i, s, q, t, h, k, c, 0, 0),
-                [d, e, i, s, q, t, h, k, c, f] => (d, e, i, s, q, t, h, k, c, f, 0),
-                [d, e, i, s, q, t, h, k, c, f, l] => (d, e, i, s, q, t, h, k, c, f, l),
+            let (d, e, i, s, q, t, h, k, c, f, l, r) = match v[..] {
+                [d, e, i, s, q] => (d, e, i, s, q, 0, 0, u32::MAX, 1, 0, 0, 1),
+                [d, e, i, s, q, t] => (d, e, i, s, q, t, 0, u32::MAX, 1, 0, 0, 1),
+                [d, e, i, s, q, t, h] => (d, e, i, s, q, t, h, u32::MAX, 1, 0, 0, 1),
+                [d, e, i, s, q, t, h, k] => (d, e, i, s, q, t, h, k, 1, 0, 0, 1),
+                [d, e, i, s, q, t, h, k, c] => (d, e, i, s, q, t, h, k, c, 0, 0, 1),
+                [d, e, i, s, q, t, h, k, c, f] => (d, e, i, s, q, t, h, k, c, f, 0, 1),
+                [d, e, i, s, q, t, h, k, c, f, l] => (d, e, i, s, q, t, h, k, c, f, l, 1),
+                [d, e, i, s, q, t, h, k, c, f, l, r] => (d, e, i, s, q, t, h, k, c, f, l, r),
                 _ => return None,
             };
             Box::new(Tempo::new(TempoConfig {
@@ -85,6 +87,7 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
                 home_pull_pct: h,
                 trail_far_nodes_per_robot: f,
                 share_slack: l,
+                corridor_keeps_share: r != 0,
                 ..TempoConfig::default()
             }))
         }

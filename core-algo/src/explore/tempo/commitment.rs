@@ -29,6 +29,10 @@ use crate::timing::Ticks;
 /// the last decision left it (a retreat or a bump breaks it) and the team
 /// looks the same: the same robots, and the same ones out of reach (failed
 /// or unheard).
+///
+/// A share is also kept, with the map changed, on a corridor node (see
+/// `TempoConfig::corridor_keeps_share`): a heuristic, not the argument
+/// above, and measured as one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) struct Commitment {
     revision: u32,
@@ -88,8 +92,10 @@ impl Commitment {
     }
 
     /// Whether this still holds for the robot deciding in `ctx`; a share
-    /// (not a wait) survives up to `slack` map changes (0: none, exact).
-    pub(super) fn holds<M>(&self, ctx: &Context<'_, M>, slack: u32) -> bool
+    /// (not a wait) survives up to `slack` map changes (0: none, exact),
+    /// and any number of them on a corridor node if `corridors` (see
+    /// `TempoConfig::corridor_keeps_share`).
+    pub(super) fn holds<M>(&self, ctx: &Context<'_, M>, slack: u32, corridors: bool) -> bool
     where
         M: AsRef<[Block]> + AsMut<[Block]>,
     {
@@ -97,7 +103,13 @@ impl Commitment {
         let bounds = ctx.map.bounds();
         let changes = ctx.map.revision().wrapping_sub(self.revision);
         let slack = if self.share.is_some() { slack } else { 0 };
-        changes <= slack
+        // Two known arms: the only ways on are ahead and back.
+        let corridor = || {
+            ctx.map
+                .known_arms(me.pos)
+                .is_some_and(|arms| arms.iter().count() == 2)
+        };
+        (changes <= slack || corridors && self.share.is_some() && corridor())
             && self.team == ctx.robots.len()
             && self.away == Self::away(ctx)
             && bounds.index(me.pos) == Some(self.pose.0)

@@ -274,21 +274,23 @@ fn a_new_node_ends_the_commitment() {
     assert_eq!(d.next, Some(Heading::West));
 }
 
+/// Robot 0 deciding in `robots` on `map`.
+fn ctx<'a>(map: &'a KnownMap<Vec<Block>>, robots: &'a [RobotView]) -> Context<'a, Vec<Block>> {
+    Context {
+        map,
+        timing: Timing::DEFAULT,
+        robots,
+        me: 0,
+    }
+}
+
 /// `share_slack`: a kept share survives that many map changes and no
-/// more; a kept wait survives none.
+/// more; a kept wait survives none (corridors aside: see below).
 #[test]
 fn a_share_survives_as_many_map_changes_as_its_slack() {
     let (mut map, robot) = corridor();
     let b = map.bounds();
     let mut robots = [robot];
-    fn ctx<'a>(map: &'a KnownMap<Vec<Block>>, robots: &'a [RobotView]) -> Context<'a, Vec<Block>> {
-        Context {
-            map,
-            timing: Timing::DEFAULT,
-            robots,
-            me: 0,
-        }
-    }
     let share = Commitment::after(
         &ctx(&map, &robots),
         b.index(Pos::new(6, 0)),
@@ -296,24 +298,76 @@ fn a_share_survives_as_many_map_changes_as_its_slack() {
     )
     .unwrap();
     let wait = Commitment::after(&ctx(&map, &robots), None, None).unwrap();
-    assert!(wait.holds(&ctx(&map, &robots), 3));
+    assert!(wait.holds(&ctx(&map, &robots), 3, false));
     // It drives to 5, where the share's decision left it; far behind it,
     // node 1 becomes known (one change), then node 0 (two).
     robots[0].pos = Pos::new(5, 0);
     map.visit(Pos::new(1, 0), line(), crate::team::RobotId(1))
         .unwrap();
-    assert!(!share.holds(&ctx(&map, &robots), 0));
-    assert!(share.holds(&ctx(&map, &robots), 1));
+    assert!(!share.holds(&ctx(&map, &robots), 0, false));
+    assert!(share.holds(&ctx(&map, &robots), 1, false));
     map.visit(
         Pos::new(0, 0),
         crate::geometry::Arms::NONE.with(Heading::East),
         crate::team::RobotId(1),
     )
     .unwrap();
-    assert!(!share.holds(&ctx(&map, &robots), 1));
-    assert!(share.holds(&ctx(&map, &robots), 2));
+    assert!(!share.holds(&ctx(&map, &robots), 1, false));
+    assert!(share.holds(&ctx(&map, &robots), 2, false));
     robots[0].pos = Pos::new(4, 0);
-    assert!(!wait.holds(&ctx(&map, &robots), 3));
+    assert!(!wait.holds(&ctx(&map, &robots), 3, false));
+}
+
+/// `corridor_keeps_share`: on a corridor node a share survives any map
+/// change; at a junction it does not, nor does a wait anywhere.
+#[test]
+fn a_share_is_kept_through_a_corridor_but_not_at_a_junction() {
+    // x = 2..=5 visited, a junction at 4 (an arm north); frontier nodes at
+    // 1, 6 and (4, 1).
+    let b = crate::map::Bounds::new(Pos::new(0, 0), 8, 2);
+    let mut map = KnownMap::new(vec![Block::EMPTY; crate::map::blocks_for(b.area())], b).unwrap();
+    for x in 2..6 {
+        let arms = if x == 4 {
+            line().with(Heading::North)
+        } else {
+            line()
+        };
+        map.visit(Pos::new(x, 0), arms, crate::team::RobotId(0))
+            .unwrap();
+    }
+    let mut robots = [RobotView {
+        pos: Pos::new(2, 0),
+        heading: Heading::East,
+        eta: 0,
+        home: Pos::new(2, 0),
+        target: None,
+    }];
+    let share = b.index(Pos::new(6, 0));
+    // Decided at 2 and at 3, both driving east to 6; and a wait at 3.
+    let from_2 = Commitment::after(&ctx(&map, &robots), share, Some(Heading::East)).unwrap();
+    robots[0].pos = Pos::new(3, 0);
+    let from_3 = Commitment::after(&ctx(&map, &robots), share, Some(Heading::East)).unwrap();
+    let wait = Commitment::after(&ctx(&map, &robots), None, None).unwrap();
+    // Behind the robot, node 1 becomes known: one map change.
+    map.visit(Pos::new(1, 0), line(), crate::team::RobotId(1))
+        .unwrap();
+    // At 3, a corridor node.
+    assert!(from_2.holds(&ctx(&map, &robots), 0, true));
+    assert!(!from_2.holds(&ctx(&map, &robots), 0, false));
+    assert!(!wait.holds(&ctx(&map, &robots), 0, true));
+    // At 4, a junction.
+    robots[0].pos = Pos::new(4, 0);
+    assert!(!from_3.holds(&ctx(&map, &robots), 0, true));
+    assert!(from_3.holds(&ctx(&map, &robots), 1, true));
+    // The share explored by a team mate: not even a corridor keeps it.
+    robots[0].pos = Pos::new(3, 0);
+    map.visit(
+        Pos::new(6, 0),
+        crate::geometry::Arms::NONE.with(Heading::West),
+        crate::team::RobotId(1),
+    )
+    .unwrap();
+    assert!(!from_2.holds(&ctx(&map, &robots), 0, true));
 }
 
 /// A robot without a share trails to a far frontier node only in a sparse
