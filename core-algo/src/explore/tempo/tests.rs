@@ -245,33 +245,26 @@ fn a_new_node_ends_the_commitment() {
         home_pull_pct: 0,
         ..TempoConfig::default()
     });
-    let ctx = Context {
-        map: &map,
-        timing: Timing::DEFAULT,
-        robots: &robots,
-        me: 0,
-    };
-    let d = tempo.decide(&ctx, &mut fields).unwrap();
+    let d = tempo.decide(&ctx(&map, &robots), &mut fields).unwrap();
     assert_eq!(d.goal, Goal::Frontier(Pos::new(6, 0)));
     assert!(tempo.kept[0].is_some());
     // It drives to 5; meanwhile node 6 becomes known (visited by nobody
     // in this team, as a relayed report would make it), a dead end.
     robots[0].pos = Pos::new(5, 0);
-    map.visit(
+    mate_visits(
+        &mut map,
         Pos::new(6, 0),
         crate::geometry::Arms::NONE.with(Heading::West),
-        crate::team::RobotId(1),
-    )
-    .unwrap();
-    let ctx = Context {
-        map: &map,
-        timing: Timing::DEFAULT,
-        robots: &robots,
-        me: 0,
-    };
-    let d = tempo.decide(&ctx, &mut fields).unwrap();
+    );
+    let d = tempo.decide(&ctx(&map, &robots), &mut fields).unwrap();
     assert_eq!(d.goal, Goal::Frontier(Pos::new(1, 0)));
     assert_eq!(d.next, Some(Heading::West));
+}
+
+/// A team mate (robot 1) visits `p` and finds `arms`, as a relayed report
+/// tells the deciding robot.
+fn mate_visits(map: &mut KnownMap<Vec<Block>>, p: Pos, arms: crate::geometry::Arms) {
+    map.visit(p, arms, crate::team::RobotId(1)).unwrap();
 }
 
 /// Robot 0 deciding in `robots` on `map`.
@@ -302,16 +295,14 @@ fn a_share_survives_as_many_map_changes_as_its_slack() {
     // It drives to 5, where the share's decision left it; far behind it,
     // node 1 becomes known (one change), then node 0 (two).
     robots[0].pos = Pos::new(5, 0);
-    map.visit(Pos::new(1, 0), line(), crate::team::RobotId(1))
-        .unwrap();
+    mate_visits(&mut map, Pos::new(1, 0), line());
     assert!(!share.holds(&ctx(&map, &robots), 0, false));
     assert!(share.holds(&ctx(&map, &robots), 1, false));
-    map.visit(
+    mate_visits(
+        &mut map,
         Pos::new(0, 0),
         crate::geometry::Arms::NONE.with(Heading::East),
-        crate::team::RobotId(1),
-    )
-    .unwrap();
+    );
     assert!(!share.holds(&ctx(&map, &robots), 1, false));
     assert!(share.holds(&ctx(&map, &robots), 2, false));
     robots[0].pos = Pos::new(4, 0);
@@ -349,8 +340,7 @@ fn a_share_is_kept_through_a_corridor_but_not_at_a_junction() {
     let from_3 = Commitment::after(&ctx(&map, &robots), share, Some(Heading::East)).unwrap();
     let wait = Commitment::after(&ctx(&map, &robots), None, None).unwrap();
     // Behind the robot, node 1 becomes known: one map change.
-    map.visit(Pos::new(1, 0), line(), crate::team::RobotId(1))
-        .unwrap();
+    mate_visits(&mut map, Pos::new(1, 0), line());
     // At 3, a corridor node.
     assert!(from_2.holds(&ctx(&map, &robots), 0, true));
     assert!(!from_2.holds(&ctx(&map, &robots), 0, false));
@@ -361,12 +351,11 @@ fn a_share_is_kept_through_a_corridor_but_not_at_a_junction() {
     assert!(from_3.holds(&ctx(&map, &robots), 1, true));
     // The share explored by a team mate: not even a corridor keeps it.
     robots[0].pos = Pos::new(3, 0);
-    map.visit(
+    mate_visits(
+        &mut map,
         Pos::new(6, 0),
         crate::geometry::Arms::NONE.with(Heading::West),
-        crate::team::RobotId(1),
-    )
-    .unwrap();
+    );
     assert!(!from_2.holds(&ctx(&map, &robots), 0, true));
 }
 
