@@ -32,9 +32,10 @@
 //!
 //! A robot keeps its share without re-assigning while the map is unchanged
 //! (exact, see `Commitment`), and through corridors whatever changed: on a
-//! node with two known arms a fresh decision could only turn it back, and
-//! deciding at every corridor node was a third of the decisions in a
-//! 16-robot maze, each over most of the map (`corridor_keeps_share`).
+//! node with two known arms it can only go on or turn back, a fresh
+//! decision rarely changed its share, and deciding at every corridor node
+//! was a quarter of the decisions in a 16-robot maze, each over most of
+//! the map (`corridor_keeps_share`).
 //!
 //! Knobs tried and measured (docs/results/exploration.md), off by default
 //! because they did not pay on the benchmark fields:
@@ -113,11 +114,12 @@ pub struct TempoConfig {
     pub share_slack: u32,
     /// With `keep_share`: a robot on a corridor node (two known arms) keeps
     /// its share whatever changed in the map, as long as the share is still
-    /// a frontier node, and decides afresh at the next junction. There the
-    /// fresh decision could only turn it back, and did so in one of 13
-    /// corridor decisions of a 16-robot 64² maze; a full decision at every
-    /// corridor node was a third of such a run's decisions, each growing
-    /// fields over most of the maze. Not exact, unlike an unchanged map:
+    /// a frontier node, and decides afresh at the next junction. In a
+    /// corridor it can only go on or turn back, and a fresh decision chose
+    /// another share in one of 13 corridor decisions of a 16-robot 64²
+    /// maze; a full decision at every corridor node was a quarter of such
+    /// a run's decisions, each growing fields over most of the maze. Not
+    /// exact, unlike an unchanged map:
     /// measured neutral on small and 64² fields and 4–5 % shorter on large
     /// mazes (docs/results/performance.md, stop 26).
     pub corridor_keeps_share: bool,
