@@ -63,17 +63,14 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
                 .split(':')
                 .map(|x| x.parse().ok())
                 .collect::<Option<_>>()?;
-            let (d, e, i, s, q, t, h, k, c, f, l, r) = match v[..] {
-                [d, e, i, s, q] => (d, e, i, s, q, 0, 0, u32::MAX, 1, 0, 0, 1),
-                [d, e, i, s, q, t] => (d, e, i, s, q, t, 0, u32::MAX, 1, 0, 0, 1),
-                [d, e, i, s, q, t, h] => (d, e, i, s, q, t, h, u32::MAX, 1, 0, 0, 1),
-                [d, e, i, s, q, t, h, k] => (d, e, i, s, q, t, h, k, 1, 0, 0, 1),
-                [d, e, i, s, q, t, h, k, c] => (d, e, i, s, q, t, h, k, c, 0, 0, 1),
-                [d, e, i, s, q, t, h, k, c, f] => (d, e, i, s, q, t, h, k, c, f, 0, 1),
-                [d, e, i, s, q, t, h, k, c, f, l] => (d, e, i, s, q, t, h, k, c, f, l, 1),
-                [d, e, i, s, q, t, h, k, c, f, l, r] => (d, e, i, s, q, t, h, k, c, f, l, r),
-                _ => return None,
-            };
+            // The values of the fields left out: off, but no team limit on
+            // trailing, and keep share and corridor keeps share on.
+            let mut x: [u32; 12] = [0, 0, 0, 0, 0, 0, 0, u32::MAX, 1, 0, 0, 1];
+            if !(5..=x.len()).contains(&v.len()) {
+                return None;
+            }
+            x.get_mut(..v.len())?.copy_from_slice(&v);
+            let [d, e, i, s, q, t, h, k, c, f, l, r] = x;
             Box::new(Tempo::new(TempoConfig {
                 keep_share: c != 0,
                 deduce_penalty_edges: d,
