@@ -201,7 +201,22 @@ where
                         return Ok(WAIT);
                     }
                     (Some(i), Some(f), Some(r)) => {
-                        let goal = ctx.map.bounds().pos(i);
+                        let bounds = ctx.map.bounds();
+                        let goal = bounds.pos(i);
+                        // The way found last time, if the field still
+                        // holds it, before a new search.
+                        let on_way = bounds
+                            .index(r.pos)
+                            .filter(|_| c.on_same_map(ctx))
+                            .and_then(|at| f.heading_after(ctx.map, i, at, r.heading));
+                        if let Some(h) = on_way {
+                            let d = Decision {
+                                goal: super::Goal::Frontier(goal),
+                                next: Some(h),
+                            };
+                            self.keep(ctx, Some(i), d);
+                            return Ok(d);
+                        }
                         if f.astar(ctx.map, ctx.timing, r.pos, r.heading, goal)?
                             .is_some()
                         {

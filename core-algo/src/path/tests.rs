@@ -416,6 +416,41 @@ proptest! {
 }
 
 proptest! {
+    /// Following `heading_after` from the start, pose by pose, drives a
+    /// cheapest path to the target and ends there: the rest of a way is
+    /// read from the field that found it.
+    #[test]
+    fn the_rest_of_a_way_is_a_cheapest_way(
+        w in 1u16..12, h in 1u16..12, seed in any::<u64>(), frac in 0.0f64..1.0,
+    ) {
+        let area = usize::from(w) * usize::from(h);
+        let map = random_known(w, h, seed, (area as f64 * frac) as usize + 1);
+        let t = Timing::DEFAULT;
+        let b = map.bounds();
+        let mut f = field_for(area);
+        f.compute(&map, t, Pos::new(0, 0), Heading::East, |_, _| Flow::Continue).unwrap();
+        for target in (1..area).filter(|&i| f.dist_at(i).is_some()) {
+            let (mut at, mut facing, mut spent) = (0usize, Heading::East, 0u32);
+            while at != target {
+                let next = f.heading_after(&map, target, at, facing);
+                prop_assert!(next.is_some(), "lost at {} on the way to {}", at, target);
+                let next = next.unwrap();
+                spent += match facing.turn_to(next) {
+                    None => 0,
+                    Some(Turn::UTurn) => 2 * t.quarter_turn,
+                    Some(_) => t.quarter_turn,
+                } + t.edge;
+                at = neighbour_index(b, at, next).unwrap();
+                facing = next;
+            }
+            prop_assert_eq!(Some(spent), f.dist_at(target));
+            // Arrived: no way on.
+            prop_assert_eq!(f.heading_after(&map, target, at, facing), None);
+        }
+    }
+}
+
+proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
 
     /// The memoised `passes` of a complete field answers as the walk does,

@@ -126,6 +126,35 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             .flatten()
     }
 
+    /// The heading to leave node `at` on the cheapest path to node
+    /// `target`, when that path passes the pose (`at`, `heading`) or starts
+    /// there; `None` otherwise. A robot that keeps its share on an
+    /// unchanged map stands on the path its last decision found, and the
+    /// rest of a cheapest path is a cheapest path: this walk replaces a new
+    /// search (an A* in a maze settles most of it; 16 % of a 16-robot run
+    /// on a 128² maze).
+    pub fn heading_after<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        target: usize,
+        at: usize,
+        heading: Heading,
+    ) -> Option<Heading> {
+        if self.start == Some((at, heading)) {
+            return self.first_heading(map, target);
+        }
+        let (mut next, mut passed) = (None, false);
+        self.walk_back_while(map, target, |v, h, _| {
+            if v == at && h == heading {
+                passed = true;
+                return Flow::Stop;
+            }
+            next = Some(h);
+            Flow::Continue
+        });
+        next.filter(|_| passed)
+    }
+
     /// Whether the cheapest path to node `target` drives through node
     /// `via` (the target counts, the start does not). Used to keep out of a
     /// team mate's way home.
