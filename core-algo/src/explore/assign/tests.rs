@@ -31,7 +31,7 @@ proptest! {
     #[test]
     fn cheapest_candidates_lose_no_optimal_assignment(
         w in 2u16..12, h in 2u16..12, seed in any::<u64>(), frac in 0.05f64..1.0,
-        k in 1usize..7, pull in 0u32..60, me in 0usize..6, lazy in any::<bool>(),
+        k in 1usize..17, pull in 0u32..60, me in 0usize..16, lazy in any::<bool>(),
     ) {
         let area = usize::from(w) * usize::from(h);
         let (map, mut robots) = random_team(w, h, seed, frac, k);

@@ -91,15 +91,6 @@ impl Commitment {
         self.share
     }
 
-    /// Whether the map is still the one this was made on: then the rest
-    /// of the way the decision found is still a cheapest one.
-    pub(super) fn on_same_map<M>(&self, ctx: &Context<'_, M>) -> bool
-    where
-        M: AsRef<[Block]> + AsMut<[Block]>,
-    {
-        ctx.map.revision() == self.revision
-    }
-
     /// Whether this still holds for the robot deciding in `ctx`; a share
     /// (not a wait) survives up to `slack` map changes (0: none, exact),
     /// and any number of them on a corridor node if `corridors` (see
