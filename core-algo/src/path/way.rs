@@ -128,11 +128,11 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
 
     /// The heading to leave node `at` on the cheapest path to node
     /// `target`, when that path passes the pose (`at`, `heading`) or starts
-    /// there; `None` otherwise. A robot that keeps its share on an
-    /// unchanged map stands on the path its last decision found, and the
-    /// rest of a cheapest path is a cheapest path: this walk replaces a new
-    /// search (an A* in a maze settles most of it; 16 % of a 16-robot run
-    /// on a 128² maze).
+    /// there; `None` otherwise. A robot that keeps its share stands on
+    /// the path its last decision found, and on an unchanged map the rest
+    /// of a cheapest path is a cheapest path: this walk replaces a new
+    /// search (an A* in a maze settles most of it; a sixth of a 16-robot
+    /// run on a 128² maze).
     pub fn heading_after<M: AsRef<[Block]> + AsMut<[Block]>>(
         &self,
         map: &KnownMap<M>,
