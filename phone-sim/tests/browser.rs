@@ -47,16 +47,23 @@ fn screenshots_dir() -> PathBuf {
     dir
 }
 
-/// The text the element shows (it must be displayed). The page redraws
-/// ten times a second, so a read that races a redraw is tried again.
+/// How often, and how far apart, a read or click that raced a redraw is
+/// tried again. The page redraws every 100 ms: retries 100 ms apart could
+/// meet the redraw every time (a read lost to "stale element" ten times in
+/// a row once), so they come at another pace.
+const RETRIES: usize = 40;
+const RETRY_PAUSE: Duration = Duration::from_millis(45);
+
+/// The text the element shows (it must be displayed), tried again when it
+/// races a redraw.
 async fn text(c: &Client, css: &str) -> String {
     let mut last = String::new();
-    for _ in 0..10 {
+    for _ in 0..RETRIES {
         let e = match c.find(Locator::Css(css)).await {
             Ok(e) => e,
             Err(e) => {
                 last = e.to_string();
-                tokio::time::sleep(Duration::from_millis(100)).await;
+                tokio::time::sleep(RETRY_PAUSE).await;
                 continue;
             }
         };
@@ -65,7 +72,7 @@ async fn text(c: &Client, css: &str) -> String {
             (Ok(false), _) => last = format!("{css} is not on screen"),
             (Err(err), _) | (_, Err(err)) => last = err.to_string(),
         }
-        tokio::time::sleep(Duration::from_millis(100)).await;
+        tokio::time::sleep(RETRY_PAUSE).await;
     }
     panic!("{css}: {last}");
 }
@@ -104,7 +111,7 @@ async fn shoot(c: &Client, name: &str) {
 /// Clicks the element; tried again if a redraw replaced it in between.
 async fn click(c: &Client, css: &str) {
     let mut last = String::new();
-    for _ in 0..10 {
+    for _ in 0..RETRIES {
         match c.find(Locator::Css(css)).await {
             Ok(e) => match e.click().await {
                 Ok(_) => return,
@@ -112,7 +119,7 @@ async fn click(c: &Client, css: &str) {
             },
             Err(err) => last = err.to_string(),
         }
-        tokio::time::sleep(Duration::from_millis(100)).await;
+        tokio::time::sleep(RETRY_PAUSE).await;
     }
     panic!("click {css}: {last}");
 }
