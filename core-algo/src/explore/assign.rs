@@ -18,7 +18,7 @@ use crate::timing::Ticks;
 /// Most candidate frontier nodes an assignment considers.
 pub const MAX_CANDIDATES: usize = MAX_ROBOTS * MAX_ROBOTS;
 
-const INF: i64 = 1 << 40;
+const INF: i64 = 1 << 52;
 
 mod burgard;
 mod endgame;

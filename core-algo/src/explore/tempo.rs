@@ -37,6 +37,12 @@
 //! was a quarter of the decisions in a 16-robot maze, each over most of
 //! the map (`corridor_keeps_share`).
 //!
+//! In teams of more than six, every cost carries a tie-break below one
+//! tick that every robot computes alike (`tie_break`): the cheapest
+//! assignment is then (almost always) unique, so robots deciding on the
+//! same map agree on it whichever team mates' fields each searched, and a
+//! search that proves less cannot change the outcome.
+//!
 //! Knobs tried and measured (docs/results/exploration.md), off by default
 //! because they did not pay on the benchmark fields:
 //! - a penalty on frontier nodes with three visited neighbours (they become
@@ -123,6 +129,13 @@ pub struct TempoConfig {
     /// measured neutral on small and 64² fields and 4–5 % shorter on large
     /// mazes (docs/results/performance.md, stop 26).
     pub corridor_keeps_share: bool,
+    /// Teams of more than this many robots break ties between equally
+    /// cheap assignments by [`tie_break`], the same in every robot. Small
+    /// teams keep the Hungarian's own order (the deciding robot's nearest
+    /// frontier node first), which measured 1.5 % shorter on 12² and 16²
+    /// fields; with 16 robots the tie-break measured even to 2 % shorter
+    /// (docs/results/performance.md, stop 28).
+    pub tie_break_team: usize,
 }
 
 impl TempoConfig {
@@ -151,6 +164,7 @@ impl Default for TempoConfig {
             home_pull_pct: 25,
             share_slack: 0,
             corridor_keeps_share: true,
+            tie_break_team: 6,
         }
     }
 }
@@ -237,6 +251,9 @@ where
         let per_edge = edge * i64::from(cfg.home_pull_pct) / 100;
         let bounds = ctx.map.bounds();
         let robots = ctx.robots;
+        // Large teams break ties alike in every robot (see `tie_break`).
+        let ties = k > cfg.tie_break_team;
+        let scale = if ties { TIE_SCALE } else { 1 };
         let travel = |j: usize, d: Ticks| -> i64 {
             let t = i64::from(d) + robots.get(j).map_or(0, |r| i64::from(r.eta));
             if cfg.squared {
@@ -252,8 +269,14 @@ where
                     .map
                     .cell_at(i)
                     .is_some_and(|x| x.visited_neighbours() == 3);
-            let pull = per_edge * i64::from(bounds.pos(i).manhattan(r.home));
-            Some(travel(j, d) + if deduce { pen } else { 0 } - pull)
+            let p = bounds.pos(i);
+            let pull = per_edge * i64::from(p.manhattan(r.home));
+            let x = travel(j, d) + if deduce { pen } else { 0 } - pull;
+            Some(if ties {
+                x * TIE_SCALE + tie_break(j, p)
+            } else {
+                x
+            })
         };
         // No frontier node at travel d or beyond costs less: it lies at most
         // d / edge edges from the robot, so at most that much farther from
@@ -283,7 +306,7 @@ where
             } else {
                 by_travel.min(by_extent)
             };
-            travel(j, d).saturating_sub(pull)
+            travel(j, d).saturating_sub(pull).saturating_mul(scale)
         };
         // A lower bound of a robot's cost for a node at any travel: it is at
         // least `edge` per edge of Manhattan distance away.
@@ -293,7 +316,7 @@ where
             };
             let p = bounds.pos(i);
             let least = r.pos.manhattan(p).saturating_mul(ctx.timing.edge);
-            travel(j, least) - per_edge * i64::from(p.manhattan(r.home))
+            (travel(j, least) - per_edge * i64::from(p.manhattan(r.home))).saturating_mul(scale)
         };
         // Lazy picks are proved by the min-sum duals; the return-aware
         // endgame changes the costs after collecting, so it needs them all.
@@ -333,7 +356,7 @@ where
                 })?;
                 for (col, &node) in cands.iter().enumerate() {
                     match hf.dist_at(node) {
-                        Some(d) => c.add(j, col, i64::from(d)),
+                        Some(d) => c.add(j, col, i64::from(d) * scale),
                         None => c.forbid(j, col),
                     }
                 }
@@ -395,6 +418,31 @@ impl Tempo {
             *slot = Commitment::after(ctx, share, d.next);
         }
     }
+}
+
+/// Tempo's costs are travel times scaled by this, plus a tie-break below
+/// it ([`tie_break`]): no sum of up to [`super::MAX_ROBOTS`] tie-breaks
+/// reaches one tick.
+const TIE_SCALE: i64 = 1 << 16;
+
+/// A fixed pseudo-random tie-break of robot `j` for node `p`, below
+/// `TIE_SCALE / MAX_ROBOTS`.
+///
+/// Why: where two assignments cost the same, the Hungarian picks one by
+/// the shape of its matrix, and that shape depends on who decides (which
+/// team mates' fields were searched, and how far). Two robots deciding on
+/// the same map could then each leave a frontier node to the other, or
+/// both take it. With a tie-break that every robot computes alike the
+/// cheapest assignment is (almost always) unique: every robot finds the
+/// same one, whichever fields it searched.
+fn tie_break(j: usize, p: crate::geometry::Pos) -> i64 {
+    let mut h = (j as u32).wrapping_mul(0x9E37_79B1)
+        ^ (p.x as u16 as u32).wrapping_mul(0x85EB_CA77)
+        ^ (p.y as u16 as u32).wrapping_mul(0xC2B2_AE3D);
+    h ^= h >> 15;
+    h = h.wrapping_mul(0x2C1B_3C6D);
+    h ^= h >> 12;
+    i64::from(h & 0xFFF)
 }
 
 /// A robot without a share waits where it stands.

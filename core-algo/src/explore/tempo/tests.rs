@@ -407,3 +407,46 @@ fn a_sparse_team_trails_far_and_a_crowded_one_waits() {
     assert_eq!(decide(51).goal, Goal::Wait);
     assert_eq!(decide(0).goal, Goal::Wait);
 }
+
+/// `tie_break`: in a large team every robot, deciding alone on the same
+/// map and poses, finds the same cheapest assignment, so no frontier node
+/// is the goal of two robots. Without the tie-break (`tie_break_team`
+/// above the team), the Hungarian's order depends on who decides and how
+/// far each field grew, and some of these teams send two robots to one
+/// node. Fixed seeds: a residual tie (two tie-break sums alike) is rare
+/// but possible, and must not make the test flaky.
+#[test]
+fn a_large_team_decides_alike_whoever_decides() {
+    let duplicates = |config: TempoConfig| {
+        let mut teams = 0;
+        for seed in 0..150u64 {
+            let k = 7 + (seed % 10) as usize;
+            let (map, robots) = random_team(9, 9, seed, 0.45, k);
+            let mut goals = Vec::new();
+            for me in 0..k {
+                let ctx = Context {
+                    map: &map,
+                    timing: Timing::DEFAULT,
+                    robots: &robots,
+                    me,
+                };
+                let mut fields = fresh_fields(81, k);
+                let d = Tempo::new(config).decide(&ctx, &mut fields).unwrap();
+                if let Goal::Frontier(p) = d.goal {
+                    goals.push(p);
+                }
+            }
+            let n = goals.len();
+            goals.sort_unstable_by_key(|p| (p.x, p.y));
+            goals.dedup();
+            teams += usize::from(goals.len() < n);
+        }
+        teams
+    };
+    assert_eq!(duplicates(TempoConfig::default()), 0);
+    let untied = TempoConfig {
+        tie_break_team: usize::MAX,
+        ..TempoConfig::default()
+    };
+    assert!(duplicates(untied) > 0, "no team here has a tie to break");
+}
