@@ -273,7 +273,7 @@ where
             let pull = per_edge * i64::from(p.manhattan(r.home));
             let x = travel(j, d) + if deduce { pen } else { 0 } - pull;
             Some(if ties {
-                x * TIE_SCALE + tie_break(j, p)
+                x.saturating_mul(TIE_SCALE) + tie_break(j, p)
             } else {
                 x
             })
@@ -424,6 +424,10 @@ impl Tempo {
 /// it ([`tie_break`]): no sum of up to [`super::MAX_ROBOTS`] tie-breaks
 /// reaches one tick.
 const TIE_SCALE: i64 = 1 << 16;
+const _: () = assert!(super::MAX_ROBOTS as i64 * (TIE_MASK as i64 + 1) <= TIE_SCALE);
+
+/// The tie-break's bits.
+const TIE_MASK: u32 = 0xFFF;
 
 /// A fixed pseudo-random tie-break of robot `j` for node `p`, below
 /// `TIE_SCALE / MAX_ROBOTS`.
@@ -442,7 +446,7 @@ fn tie_break(j: usize, p: crate::geometry::Pos) -> i64 {
     h ^= h >> 15;
     h = h.wrapping_mul(0x2C1B_3C6D);
     h ^= h >> 12;
-    i64::from(h & 0xFFF)
+    i64::from(h & TIE_MASK)
 }
 
 /// A robot without a share waits where it stands.

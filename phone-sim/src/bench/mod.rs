@@ -63,9 +63,9 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
                 .split(':')
                 .map(|x| x.parse().ok())
                 .collect::<Option<_>>()?;
-            // The values of the fields left out: off, but no team limit on
-            // trailing or tie-breaking, and keep share and corridor keeps
-            // share on.
+            // The values of the fields left out: off (a tie-break team of
+            // u32::MAX: no team breaks ties), but no team limit on
+            // trailing, and keep share and corridor keeps share on.
             let mut x: [u32; 13] = [0, 0, 0, 0, 0, 0, 0, u32::MAX, 1, 0, 0, 1, u32::MAX];
             if !(5..=x.len()).contains(&v.len()) {
                 return None;
