@@ -18,6 +18,8 @@ use crate::timing::Ticks;
 /// Most candidate frontier nodes an assignment considers.
 pub const MAX_CANDIDATES: usize = MAX_ROBOTS * MAX_ROBOTS;
 
+/// A forbidden pair's cost: above any real one, tempo's costs scaled by
+/// its tie-break (2^16) included, with room for the Hungarian's sums.
 const INF: i64 = 1 << 52;
 
 mod burgard;

@@ -133,8 +133,9 @@ pub struct TempoConfig {
     /// cheap assignments by [`tie_break`], the same in every robot. Small
     /// teams keep the Hungarian's own order (the deciding robot's nearest
     /// frontier node first), which measured 1.5 % shorter on 12² and 16²
-    /// fields; with 16 robots the tie-break measured even to 2 % shorter
-    /// (docs/results/performance.md, stop 28).
+    /// fields; teams of 10 and 16 on 40² fields were 3.6 % shorter with
+    /// the tie-break (docs/results/performance.md, stop 28). The team is
+    /// the one the deciding robot knows of.
     pub tie_break_team: usize,
 }
 
@@ -424,10 +425,10 @@ impl Tempo {
 /// it ([`tie_break`]): no sum of up to [`super::MAX_ROBOTS`] tie-breaks
 /// reaches one tick.
 const TIE_SCALE: i64 = 1 << 16;
-const _: () = assert!(super::MAX_ROBOTS as i64 * (TIE_MASK as i64 + 1) <= TIE_SCALE);
 
 /// The tie-break's bits.
 const TIE_MASK: u32 = 0xFFF;
+const _: () = assert!(super::MAX_ROBOTS as i64 * (TIE_MASK as i64 + 1) <= TIE_SCALE);
 
 /// A fixed pseudo-random tie-break of robot `j` for node `p`, below
 /// `TIE_SCALE / MAX_ROBOTS`.
