@@ -154,14 +154,16 @@ impl Candidates {
     /// robots on a large field meant 16 near-complete searches per decision.
     ///
     /// `lazy` (for the min-sum objective only) starts from fewer picks
-    /// and proves the assignment optimal instead: see [`Picks`].
+    /// and proves the assignment optimal instead: see [`Picks`]. `reverse`
+    /// chooses how the endgame finds its costs (see
+    /// [`Candidates::endgame`]).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn cheapest<M, F>(
         ctx: &Context<'_, M>,
         fields: &mut [DistField<F>],
         per_robot: usize,
         spread: u32,
-        lazy: bool,
+        (lazy, reverse): (bool, bool),
         mut cost: impl FnMut(usize, usize, Ticks) -> Option<i64>,
         mut floor: impl FnMut(usize, Ticks) -> i64,
         bound: impl FnMut(usize, usize) -> i64,
@@ -179,7 +181,7 @@ impl Candidates {
             return Ok(Some(Candidates::empty(k)));
         }
         if spread == 0 && ctx.map.frontier_len() < per_robot.min(k) {
-            if let Some(c) = Self::endgame(ctx, fields, &mut cost, &mut floor, bound)? {
+            if let Some(c) = Self::endgame(ctx, fields, reverse, &mut cost, &mut floor, bound)? {
                 return Ok(Some(c));
             }
         }

@@ -323,7 +323,7 @@ where
         // endgame changes the costs after collecting, so it needs them all.
         let lazy = !cfg.endgame_return && k > cfg.eager_team;
         let Some(mut c) =
-            Candidates::cheapest(ctx, fields, k, cfg.spread, lazy, cost, floor, bound)?
+            Candidates::cheapest(ctx, fields, k, cfg.spread, (lazy, ties), cost, floor, bound)?
         else {
             return match fields.first_mut() {
                 Some(f) => nearest_or_home(ctx, f),

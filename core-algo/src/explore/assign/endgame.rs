@@ -23,9 +23,16 @@ impl Candidates {
     /// forbidden. `None` when the deciding robot cannot reach every
     /// frontier node (team mates in another part of the graph might): then
     /// the nodes it finds are not all the columns.
+    ///
+    /// With `reverse`, each frontier node's m cheapest robots come from one
+    /// reverse search instead (see [`Candidates::reverse_columns`]): the same
+    /// optimum at about half the states, but other forbidden pairs, so where
+    /// several assignments cost the same the Hungarian may pick another one.
+    /// Tempo uses it where its tie-break makes the optimum unique.
     pub(super) fn endgame<M, F>(
         ctx: &Context<'_, M>,
         fields: &mut [DistField<F>],
+        reverse: bool,
         mut cost: impl FnMut(usize, usize, Ticks) -> Option<i64>,
         mut floor: impl FnMut(usize, Ticks) -> i64,
         mut bound: impl FnMut(usize, usize) -> i64,
@@ -56,6 +63,9 @@ impl Candidates {
         })?;
         if unseen > 0 {
             return Ok(None);
+        }
+        if reverse {
+            return Ok(c.reverse_columns(ctx, fields, &mut cost)?.then_some(c));
         }
         let m = c.m;
         // A second lower bound, from every field searched so far (see
@@ -155,6 +165,103 @@ impl Candidates {
             learn(&mut near, ctx, &c, field, u_turn, &mut cost);
         }
         Ok(Some(c))
+    }
+
+    /// Fills every column's m cheapest robots (m = `self.m` frontier nodes,
+    /// in `self.nodes`) from one reverse search per node: from every pose,
+    /// the time to reach it. A search stops once its m cheapest robots are
+    /// proven: found, and no robot not yet found could still be cheaper, as
+    /// a robot's cost only grows with its travel. Other pairs stay
+    /// forbidden.
+    ///
+    /// Why: the forward way grew team mates' fields until their costs could
+    /// no longer matter, most of a 16-robot maze run's time. On maze 64²
+    /// with 16 robots the reverse searches gave the same assignment in all
+    /// 14 987 decisions of a run at about half the states (docs/results/
+    /// performance.md, stop 29). `false` when there is no scratch field
+    /// besides the deciding robot's own, which holds its way.
+    fn reverse_columns<M, F>(
+        &mut self,
+        ctx: &Context<'_, M>,
+        fields: &mut [DistField<F>],
+        cost: &mut dyn FnMut(usize, usize, Ticks) -> Option<i64>,
+    ) -> Result<bool, PlanError>
+    where
+        M: AsRef<[Block]> + AsMut<[Block]>,
+        F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+    {
+        let (map, k, me) = (ctx.map, self.k, ctx.me);
+        let bounds = map.bounds();
+        // Where each robot stands, as the (node, heading) state a reverse
+        // search settles; a 64-bit mask of their nodes spares most states
+        // the comparison with all k.
+        let mut poses = [None; MAX_ROBOTS];
+        let mut near = 0u64;
+        for (p, r) in poses.iter_mut().zip(ctx.robots).take(k) {
+            if let Some(i) = bounds.index(r.pos) {
+                *p = Some((i, r.heading));
+                near |= 1 << (i % 64);
+            }
+        }
+        // Any team mate's slot: the forward way searched them all.
+        let scratch = if me == 0 { 1 } else { 0 };
+        let Some(rev) = fields.get_mut(scratch).filter(|_| scratch < k) else {
+            return Ok(false);
+        };
+        let c = self;
+        let want = c.m.min(k);
+        let nodes = c.nodes;
+        for (col, &node) in nodes.iter().enumerate().take(c.m) {
+            let p = bounds.pos(node);
+            let mut found = 0usize;
+            // The want-th cheapest cost found, once want are found.
+            let mut cut = INF;
+            let mut proven_at: Option<Ticks> = None;
+            rev.compute_reverse(map, ctx.timing, p, |v, h, key| {
+                let mut new = false;
+                if near & (1 << (v % 64)) != 0 {
+                    for (j, pose) in poses.iter().enumerate().take(k) {
+                        if *pose != Some((v, h)) {
+                            continue;
+                        }
+                        if let (Some(x), Some(e)) = (
+                            cost(j, node, key),
+                            c.cost.get_mut(j).and_then(|r| r.get_mut(col)),
+                        ) {
+                            if *e == INF {
+                                *e = x.clamp(-INF + 1, INF - 1);
+                                found += 1;
+                                new = true;
+                            }
+                        }
+                    }
+                }
+                if found < want {
+                    return Flow::Continue;
+                }
+                if new {
+                    let mut row = [INF; MAX_ROBOTS];
+                    for (j, x) in row.iter_mut().enumerate().take(k) {
+                        *x = c.at(j, col);
+                    }
+                    let row = row.get_mut(..k).unwrap_or(&mut []);
+                    row.sort_unstable();
+                    cut = row.get(want - 1).copied().unwrap_or(INF);
+                    proven_at = None;
+                }
+                // Keys only grow, so one check per key: could a robot not
+                // found yet (at this travel or more) still beat the cut?
+                if proven_at == Some(key) {
+                    return Flow::Continue;
+                }
+                proven_at = Some(key);
+                let open = (0..k)
+                    .filter(|&j| c.at(j, col) == INF && poses.get(j).is_some_and(Option::is_some))
+                    .any(|j| cost(j, node, key).is_some_and(|x| x < cut));
+                if open { Flow::Continue } else { Flow::Stop }
+            })?;
+        }
+        Ok(true)
     }
 }
 

@@ -32,6 +32,7 @@ proptest! {
     fn cheapest_candidates_lose_no_optimal_assignment(
         w in 2u16..12, h in 2u16..12, seed in any::<u64>(), frac in 0.05f64..1.0,
         k in 1usize..17, pull in 0u32..60, me in 0usize..16, lazy in any::<bool>(),
+        reverse in any::<bool>(),
     ) {
         let area = usize::from(w) * usize::from(h);
         let (map, mut robots) = random_team(w, h, seed, frac, k);
@@ -66,7 +67,7 @@ proptest! {
         };
         let field = || DistField::new(vec![PlanCell::EMPTY; min_cells(area)]);
         let mut fields: Vec<_> = (0..k).map(|_| field()).collect();
-        let c = Candidates::cheapest(&ctx, &mut fields, k, 0, lazy, cost, floor, bound).unwrap().unwrap();
+        let c = Candidates::cheapest(&ctx, &mut fields, k, 0, (lazy, reverse), cost, floor, bound).unwrap().unwrap();
         // Every robot's full field, every frontier node.
         let mut full = vec![vec![None; area]; k];
         for (j, r) in robots.iter().enumerate() {
