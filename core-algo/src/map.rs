@@ -27,8 +27,10 @@ use crate::team::RobotId;
 use core::fmt;
 
 mod cell;
+mod changes;
 use cell::{ARMS_MASK, INTO_SHIFT, VISITED, is_deduced};
 pub use cell::{BLOCK_NODES, Block, NodeCell, blocks_for};
+use changes::Changes;
 
 /// The rectangle of the lattice a map covers: `width` × `height` nodes from
 /// `origin` (its south-west corner).
@@ -177,6 +179,9 @@ pub struct KnownMap<S> {
     /// The largest x + y, x − y, −x + y and −x − y of the visited nodes:
     /// the farthest visited node from any point, in O(1).
     diagonals: Option<[i32; 4]>,
+    /// The nodes that became passable lately (see
+    /// [`KnownMap::passable_since`]).
+    changes: Changes,
 }
 
 impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
@@ -198,6 +203,7 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
             deduced: 0,
             diagonals: None,
             revision: 0,
+            changes: Changes::new(0),
         })
     }
 
@@ -209,6 +215,7 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
         self.deduced = 0;
         self.diagonals = None;
         self.revision = self.revision.wrapping_add(1);
+        self.changes = Changes::new(self.revision);
     }
 
     /// The Manhattan distance from `from` to the farthest visited node
@@ -232,6 +239,15 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
     /// a field computed at the same revision instead of searching again.
     pub fn revision(&self) -> u32 {
         self.revision
+    }
+
+    /// The nodes whose arms became known (visited, or deduced from four
+    /// visited neighbours) after revision `since`; `None` when that is too
+    /// long ago to tell. The known graph only ever gains such nodes, so a
+    /// planner can check whether a search of an older revision still holds
+    /// instead of searching again (see `DistField::refresh_reverse`).
+    pub fn passable_since(&self, since: u32) -> Option<impl Iterator<Item = usize> + '_> {
+        self.changes.since(since, self.revision)
     }
 
     /// The window this map covers.
@@ -368,6 +384,7 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
         // its kept way home again).
         if !was_deduced {
             self.revision = self.revision.wrapping_add(1);
+            self.changes.push(self.revision, i);
         }
         self.refresh_frontier(i);
         let mut arm_leaves_bounds = false;
@@ -387,6 +404,7 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
             }
             if !before && is_deduced(now) {
                 self.deduced += 1;
+                self.changes.push(self.revision, j);
             }
             self.refresh_frontier(j);
         }

@@ -173,6 +173,10 @@ pub struct DistField<S> {
     /// The goal of a completed [`DistField::compute_reverse`], and the map
     /// revision it ran on.
     reverse: Option<(usize, u32)>,
+    /// The goal of the last [`DistField::compute_reverse`], stopped or
+    /// completed, and the map revision its settled states hold for: it can
+    /// be refreshed and resumed (see `refresh`).
+    rev_open: Option<(usize, u32)>,
     /// The nodes that [`DistField::passes_any`] memoises answers for, and
     /// the map revision.
     memo: Option<(Vias, u32)>,
@@ -193,6 +197,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             way: None,
             memo: None,
             reverse: None,
+            rev_open: None,
         }
     }
 
@@ -261,6 +266,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         self.way = None;
         self.memo = None;
         self.reverse = None;
+        self.rev_open = None;
         self.bounds = bounds;
         self.queue = Queues::default();
         self.start = Some((s0, heading));
@@ -444,7 +450,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// Afterwards [`DistField::dist_at`] holds each node's cheapest time
     /// over its headings and, if the search ran to the end,
     /// [`DistField::way_out`] the way from any pose; the field has no
-    /// start, so it gives no forward path and cannot be resumed.
+    /// start, so it gives no forward path. A stopped search can go on
+    /// with [`DistField::resume_reverse`], also after the map has grown
+    /// (see [`DistField::refresh_reverse`]).
     pub fn compute_reverse<M: AsRef<[Block]> + AsMut<[Block]>>(
         &mut self,
         map: &KnownMap<M>,
@@ -487,9 +495,14 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             })
         };
         self.start = None;
-        self.queue = Queues::default();
-        if result.is_ok() && !stop {
-            self.reverse = Some((g, map.revision()));
+        match result {
+            Ok(()) => {
+                self.rev_open = Some((g, map.revision()));
+                if !stop {
+                    self.reverse = Some((g, map.revision()));
+                }
+            }
+            Err(_) => self.queue = Queues::default(),
         }
         result
     }
@@ -655,6 +668,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
 
 mod astar;
 mod descent;
+mod refresh;
 mod scratch;
 mod way;
 mod weighted;

@@ -1,6 +1,7 @@
 use super::*;
 use proptest::prelude::*;
 
+use std::vec;
 use std::vec::Vec;
 
 fn small_map() -> ArrayMap<4> {
@@ -272,4 +273,37 @@ proptest! {
             }
         }
     }
+}
+
+/// The change log names each node that became passable, visited or
+/// deduced, after a revision, and refuses once it no longer reaches back.
+#[test]
+fn passable_since_names_visited_and_deduced_nodes() {
+    let mut m = small_map();
+    let b = m.bounds();
+    let idx = |x, y| b.index(Pos::new(x, y)).unwrap();
+    let r0 = m.revision();
+    // Around (1, 1): its four neighbours, the last visit deduces it.
+    m.visit(Pos::new(1, 0), arms(&[N]), RobotId(0)).unwrap();
+    m.visit(Pos::new(0, 1), arms(&[E]), RobotId(0)).unwrap();
+    m.visit(Pos::new(2, 1), arms(&[W]), RobotId(0)).unwrap();
+    let r3 = m.revision();
+    m.visit(Pos::new(1, 2), arms(&[S]), RobotId(0)).unwrap();
+    let since = |m: &ArrayMap<4>, r| m.passable_since(r).map(|i| i.collect::<Vec<_>>());
+    assert_eq!(since(&m, r3), Some(vec![idx(1, 2), idx(1, 1)]));
+    assert_eq!(since(&m, r0).map(|v| v.len()), Some(5));
+    assert_eq!(since(&m, m.revision()), Some(vec![]));
+    // A deduced node visited later changes nothing.
+    let r4 = m.revision();
+    m.visit(Pos::new(1, 1), arms(&[N, E, S, W]), RobotId(0))
+        .unwrap();
+    assert_eq!(since(&m, r4), Some(vec![]));
+    // Forty more visits overflow the log: the old revisions are gone.
+    for x in -5..5 {
+        for y in [-5, -3, 3] {
+            m.visit(Pos::new(x, y), Arms::NONE, RobotId(0)).unwrap();
+        }
+    }
+    assert_eq!(since(&m, r0), None);
+    assert_eq!(since(&m, m.revision()), Some(vec![]));
 }

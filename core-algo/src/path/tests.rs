@@ -12,6 +12,16 @@ use std::vec::Vec;
 /// the first `known` nodes reached by BFS from (0, 0).
 pub(crate) fn random_known(w: u16, h: u16, seed: u64, known: usize) -> KnownMap<Vec<Block>> {
     let bounds = Bounds::new(Pos::new(0, 0), w, h);
+    let arms = random_arms(bounds, seed);
+    let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(bounds.area())], bounds).unwrap();
+    for i in bfs_order(bounds, &arms).into_iter().take(known) {
+        map.visit(bounds.pos(i), arms[i], RobotId(0)).unwrap();
+    }
+    map
+}
+
+/// Reciprocal random arms, each lattice edge present with 70 % chance.
+pub(crate) fn random_arms(bounds: Bounds, seed: u64) -> Vec<Arms> {
     let mut arms = vec![Arms::NONE; bounds.area()];
     let mut s = seed | 1;
     let mut rnd = || {
@@ -30,17 +40,17 @@ pub(crate) fn random_known(w: u16, h: u16, seed: u64, known: usize) -> KnownMap<
             }
         }
     }
-    let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(bounds.area())], bounds).unwrap();
+    arms
+}
+
+/// The nodes reachable from node 0 along `arms`, in BFS order.
+pub(crate) fn bfs_order(bounds: Bounds, arms: &[Arms]) -> Vec<usize> {
     let mut seen = vec![false; bounds.area()];
     let mut queue = std::collections::VecDeque::from([0usize]);
     seen[0] = true;
-    let mut n = 0;
+    let mut order = Vec::new();
     while let Some(i) = queue.pop_front() {
-        if n >= known {
-            break;
-        }
-        map.visit(bounds.pos(i), arms[i], RobotId(0)).unwrap();
-        n += 1;
+        order.push(i);
         for hd in arms[i].iter() {
             if let Some(j) = neighbour_index(bounds, i, hd) {
                 if !seen[j] {
@@ -50,7 +60,7 @@ pub(crate) fn random_known(w: u16, h: u16, seed: u64, known: usize) -> KnownMap<
             }
         }
     }
-    map
+    order
 }
 
 /// Brute-force Dijkstra over (node, heading) states with a binary heap.

@@ -216,6 +216,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         if self.way == Some((marked, map.revision())) {
             return true;
         }
+        // Marks live in the ring slots a stopped reverse search keeps its
+        // queues in.
+        self.rev_open = None;
         if let (Some((Marked::Descent(from), rev)), Marked::Descent(to)) = (self.way, marked) {
             if rev == map.revision() && self.unmark_descent_prefix(map, from, to) {
                 self.way = Some((marked, rev));
@@ -284,6 +287,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         if !same {
             self.clear_memo();
             self.memo = Vias::from_slice(vias).ok().map(|k| (k, rev));
+            self.rev_open = None;
         }
         // Distances fall along the walk back: below the nearest via's, it
         // cannot meet any of them any more.

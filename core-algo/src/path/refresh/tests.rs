@@ -1,0 +1,158 @@
+use super::super::tests::{bfs_order, random_arms};
+use super::super::*;
+use crate::geometry::Arms;
+use crate::map::blocks_for;
+use crate::team::RobotId;
+use proptest::prelude::*;
+use std::vec;
+use std::vec::Vec;
+
+/// A perfect maze: a random depth-first spanning tree of the lattice.
+fn tree_arms(bounds: Bounds, seed: u64) -> Vec<Arms> {
+    let mut s = seed | 1;
+    let mut rnd = move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        s
+    };
+    let mut arms = vec![Arms::NONE; bounds.area()];
+    let mut seen = vec![false; bounds.area()];
+    let mut stack = vec![0usize];
+    seen[0] = true;
+    while let Some(&i) = stack.last() {
+        let open: Vec<(Heading, usize)> = Heading::ALL
+            .into_iter()
+            .filter_map(|h| neighbour_index(bounds, i, h).map(|j| (h, j)))
+            .filter(|&(_, j)| !seen[j])
+            .collect();
+        if open.is_empty() {
+            stack.pop();
+            continue;
+        }
+        let (h, j) = open[(rnd() % open.len() as u64) as usize];
+        arms[i] = arms[i].with(h);
+        arms[j] = arms[j].with(h.opposite());
+        seen[j] = true;
+        stack.push(j);
+    }
+    arms
+}
+
+fn field_for(area: usize) -> DistField<Vec<PlanCell>> {
+    DistField::new(vec![PlanCell::EMPTY; min_cells(area)])
+}
+
+/// Every state's time to the goal (`None`: not settled).
+fn states(f: &DistField<Vec<PlanCell>>, b: Bounds) -> Vec<Option<Ticks>> {
+    (0..b.area())
+        .flat_map(|i| Heading::ALL.map(|h| f.dist_pose(b.pos(i), h)))
+        .collect()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(1024))]
+
+    /// A reverse search stopped anywhere, carried over to a map grown by a
+    /// few visits and resumed, settles every state at the time a fresh
+    /// search of the grown map gives it: where it stops again, and once it
+    /// has run to the end. Where it refuses, nothing is claimed.
+    #[test]
+    fn a_refreshed_reverse_search_agrees_with_a_fresh_one(
+        w in 2u16..10, h in 2u16..10, seed in any::<u64>(), tree in any::<bool>(),
+        known in 1usize..80, more in 1usize..6, pick in any::<usize>(),
+        first in 0usize..300, second in 0usize..300,
+    ) {
+        let b = Bounds::new(Pos::new(0, 0), w, h);
+        let arms = if tree { tree_arms(b, seed) } else { random_arms(b, seed) };
+        let order = bfs_order(b, &arms);
+        let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).unwrap();
+        for &i in order.iter().take(known) {
+            map.visit(b.pos(i), arms[i], RobotId(0)).unwrap();
+        }
+        let frontier: Vec<Pos> = map.frontier().collect();
+        if frontier.is_empty() {
+            return Ok(());
+        }
+        let goal = frontier[pick % frontier.len()];
+        let t = Timing::DEFAULT;
+        let mut kept = field_for(b.area());
+        let mut n = 0;
+        kept.compute_reverse(&map, t, goal, |_, _, _| {
+            n += 1;
+            if n > first { Flow::Stop } else { Flow::Continue }
+        }).unwrap();
+        for &i in order.iter().skip(known).take(more) {
+            map.visit(b.pos(i), arms[i], RobotId(0)).unwrap();
+        }
+        let mut fresh = field_for(b.area());
+        fresh.compute_reverse(&map, t, goal, |_, _, _| Flow::Continue).unwrap();
+        let want = states(&fresh, b);
+        if !kept.refresh_reverse(&map, t) {
+            return Ok(());
+        }
+        prop_assert!(map.is_frontier_at(b.index(goal).unwrap()));
+        let bound = kept.reverse_settled_to().unwrap();
+        // What is settled holds already; what is not costs at least `bound`.
+        for (s, (got, want)) in states(&kept, b).iter().zip(&want).enumerate() {
+            match got {
+                Some(_) => prop_assert_eq!(got, want, "state {} settled wrong", s),
+                None => prop_assert!(want.is_none_or(|x| x >= bound), "state {} below {}", s, bound),
+            }
+        }
+        let mut n = 0;
+        kept.resume_reverse(&map, |_, _, _| {
+            n += 1;
+            if n > second { Flow::Stop } else { Flow::Continue }
+        }).unwrap();
+        for (got, want) in states(&kept, b).iter().zip(&want) {
+            if got.is_some() {
+                prop_assert_eq!(got, want);
+            }
+        }
+        kept.resume_reverse(&map, |_, _, _| Flow::Continue).unwrap();
+        prop_assert_eq!(states(&kept, b), want);
+    }
+}
+
+/// A corridor grown at its far end keeps the search; a visit that closes
+/// a loop (a new way to the goal) refuses it.
+#[test]
+fn a_dead_end_keeps_the_search_and_a_loop_does_not() {
+    let b = Bounds::new(Pos::new(0, 0), 4, 2);
+    let map_with = |visits: &[(Pos, Arms)]| {
+        let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).unwrap();
+        for &(p, a) in visits {
+            map.visit(p, a, RobotId(0)).unwrap();
+        }
+        map
+    };
+    let (n, e, w) = (Heading::North, Heading::East, Heading::West);
+    let arms = |hs: &[Heading]| hs.iter().fold(Arms::NONE, |a, &h| a.with(h));
+    // The bottom row (0,0)-(1,0)-(2,0), the goal (3,0) to the east, and
+    // (1,1) and (2,1) above the middle frontier too.
+    let mut map = map_with(&[
+        (Pos::new(0, 0), arms(&[e])),
+        (Pos::new(1, 0), arms(&[e, w, n])),
+        (Pos::new(2, 0), arms(&[e, w, n])),
+    ]);
+    let t = Timing::DEFAULT;
+    let mut f = field_for(b.area());
+    f.compute_reverse(&map, t, Pos::new(3, 0), |_, _, _| Flow::Continue)
+        .unwrap();
+    // (1,1) turns out a dead end: its arm east leads to the frontier (2,1).
+    map.visit(Pos::new(1, 1), arms(&[Heading::South, e]), RobotId(0))
+        .unwrap();
+    assert!(f.refresh_reverse(&map, t));
+    let mut fresh = field_for(b.area());
+    fresh
+        .compute_reverse(&map, t, Pos::new(3, 0), |_, _, _| Flow::Continue)
+        .unwrap();
+    f.resume_reverse(&map, |_, _, _| Flow::Continue).unwrap();
+    assert_eq!(states(&f, b), states(&fresh, b));
+    assert!(f.dist(Pos::new(1, 1)).is_some());
+    // (2,1) joins (1,1) to (2,0): a loop, a second way on from both.
+    map.visit(Pos::new(2, 1), arms(&[w, Heading::South]), RobotId(0))
+        .unwrap();
+    assert!(!f.refresh_reverse(&map, t));
+}
