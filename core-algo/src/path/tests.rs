@@ -43,6 +43,38 @@ pub(crate) fn random_arms(bounds: Bounds, seed: u64) -> Vec<Arms> {
     arms
 }
 
+/// A perfect maze: a random depth-first spanning tree of the lattice.
+pub(crate) fn tree_arms(bounds: Bounds, seed: u64) -> Vec<Arms> {
+    let mut s = seed | 1;
+    let mut rnd = move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        s
+    };
+    let mut arms = vec![Arms::NONE; bounds.area()];
+    let mut seen = vec![false; bounds.area()];
+    let mut stack = vec![0usize];
+    seen[0] = true;
+    while let Some(&i) = stack.last() {
+        let open: Vec<(Heading, usize)> = Heading::ALL
+            .into_iter()
+            .filter_map(|h| neighbour_index(bounds, i, h).map(|j| (h, j)))
+            .filter(|&(_, j)| !seen[j])
+            .collect();
+        if open.is_empty() {
+            stack.pop();
+            continue;
+        }
+        let (h, j) = open[(rnd() % open.len() as u64) as usize];
+        arms[i] = arms[i].with(h);
+        arms[j] = arms[j].with(h.opposite());
+        seen[j] = true;
+        stack.push(j);
+    }
+    arms
+}
+
 /// The nodes reachable from node 0 along `arms`, in BFS order.
 pub(crate) fn bfs_order(bounds: Bounds, arms: &[Arms]) -> Vec<usize> {
     let mut seen = vec![false; bounds.area()];

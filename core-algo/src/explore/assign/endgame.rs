@@ -3,6 +3,7 @@
 
 use super::{Candidates, INF};
 use crate::explore::{Context, MAX_ROBOTS};
+use crate::geometry::Heading;
 use crate::map::Block;
 use crate::path::{DistField, Flow, PlanCell, PlanError, arms_at};
 use crate::timing::Ticks;
@@ -178,8 +179,14 @@ impl Candidates {
     /// no longer matter, most of a 16-robot maze run's time. On maze 64²
     /// with 16 robots the reverse searches gave the same assignment in all
     /// 14 987 decisions of a run at about half the states (docs/results/
-    /// performance.md, stop 29). `false` when there is no scratch field
-    /// besides the deciding robot's own, which holds its way.
+    /// performance.md, stop 29).
+    ///
+    /// Each search stays in a team mate's field slot, and the next decision
+    /// carries it over if the map grew only by dead ends (see
+    /// [`DistField::refresh_reverse`]): robots it settled already are read
+    /// off, and it grows on only if the robots have moved out of it. A
+    /// robot decides again whenever the map grows, and most frontier nodes
+    /// outlive a decision. `false` when the team mates' slots are too few.
     fn reverse_columns<M, F>(
         &mut self,
         ctx: &Context<'_, M>,
@@ -190,7 +197,7 @@ impl Candidates {
         M: AsRef<[Block]> + AsMut<[Block]>,
         F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
     {
-        let (map, k, me) = (ctx.map, self.k, ctx.me);
+        let (map, k, me, m) = (ctx.map, self.k, ctx.me, self.m);
         let bounds = map.bounds();
         // Where each robot stands, as the (node, heading) state a reverse
         // search settles; a 64-bit mask of their nodes spares most states
@@ -203,63 +210,89 @@ impl Candidates {
                 near |= 1 << (i % 64);
             }
         }
-        // Any team mate's slot: the forward way searched them all.
-        let scratch = if me == 0 { 1 } else { 0 };
-        let Some(rev) = fields.get_mut(scratch).filter(|_| scratch < k) else {
-            return Ok(false);
-        };
-        let c = self;
-        let want = c.m.min(k);
-        let nodes = c.nodes;
-        for (col, &node) in nodes.iter().enumerate().take(c.m) {
-            let p = bounds.pos(node);
+        let team = |s: usize| s < k && s != me;
+        // Each column's slot: the one that holds its search, else one that
+        // holds no column's.
+        let mut slot = [None; MAX_ROBOTS];
+        let mut used = [false; MAX_ROBOTS];
+        for (col, sl) in slot.iter_mut().enumerate().take(m) {
+            let node = self.nodes.get(col).copied();
+            let held =
+                (0..k).find(|&s| team(s) && fields.get(s).and_then(|f| f.reverse_goal()) == node);
+            if let (Some(s), Some(u)) = (held, held.and_then(|s| used.get_mut(s))) {
+                *sl = Some((s, true));
+                *u = true;
+            }
+        }
+        for col in 0..m {
+            if slot.get(col).copied().flatten().is_some() {
+                continue;
+            }
+            let free = (0..k).find(|&s| {
+                team(s)
+                    && !used.get(s).copied().unwrap_or(true)
+                    && !fields
+                        .get(s)
+                        .and_then(|f| f.reverse_goal())
+                        .is_some_and(|g| self.nodes.get(..m).unwrap_or(&[]).contains(&g))
+            });
+            let free =
+                free.or_else(|| (0..k).find(|&s| team(s) && !used.get(s).copied().unwrap_or(true)));
+            let (Some(s), Some(sl)) = (free, slot.get_mut(col)) else {
+                return Ok(false);
+            };
+            *sl = Some((s, false));
+            if let Some(u) = used.get_mut(s) {
+                *u = true;
+            }
+        }
+        let want = m.min(k);
+        for col in 0..m {
+            let (Some((s, held)), Some(&node)) =
+                (slot.get(col).copied().flatten(), self.nodes.get(col))
+            else {
+                continue;
+            };
+            let Some(rev) = fields.get_mut(s) else {
+                continue;
+            };
+            let kept = held && rev.refresh_reverse(map, ctx.timing);
             let mut found = 0usize;
-            // The want-th cheapest cost found, once want are found.
-            let mut cut = INF;
-            let mut proven_at: Option<Ticks> = None;
-            rev.compute_reverse(map, ctx.timing, p, |v, h, key| {
-                let mut new = false;
-                if near & (1 << (v % 64)) != 0 {
-                    for (j, pose) in poses.iter().enumerate().take(k) {
-                        if *pose != Some((v, h)) {
-                            continue;
-                        }
-                        if let (Some(x), Some(e)) = (
-                            cost(j, node, key),
-                            c.cost.get_mut(j).and_then(|r| r.get_mut(col)),
-                        ) {
-                            if *e == INF {
-                                *e = x.clamp(-INF + 1, INF - 1);
-                                found += 1;
-                                new = true;
-                            }
-                        }
+            if kept {
+                for (j, pose) in poses.iter().enumerate().take(k) {
+                    let d = pose.and_then(|(v, h)| rev.dist_pose(bounds.pos(v), h));
+                    if let (Some(x), Some(e)) = (
+                        d.and_then(|d| cost(j, node, d)),
+                        self.cost.get_mut(j).and_then(|r| r.get_mut(col)),
+                    ) {
+                        *e = x.clamp(-INF + 1, INF - 1);
+                        found += 1;
                     }
                 }
-                if found < want {
-                    return Flow::Continue;
+            }
+            let mut column = Column {
+                c: self,
+                col,
+                node,
+                k,
+                want,
+                found,
+                cut: None,
+                proven_at: None,
+                cost: &mut *cost,
+            };
+            if kept {
+                let settled = rev.reverse_settled_to().unwrap_or(0);
+                if column.proven(settled) {
+                    continue;
                 }
-                if new {
-                    let mut row = [INF; MAX_ROBOTS];
-                    for (j, x) in row.iter_mut().enumerate().take(k) {
-                        *x = c.at(j, col);
-                    }
-                    let row = row.get_mut(..k).unwrap_or(&mut []);
-                    row.sort_unstable();
-                    cut = row.get(want - 1).copied().unwrap_or(INF);
-                    proven_at = None;
-                }
-                // Keys only grow, so one check per key: could a robot not
-                // found yet (at this travel or more) still beat the cut?
-                if proven_at == Some(key) {
-                    return Flow::Continue;
-                }
-                proven_at = Some(key);
-                let open = (0..k)
-                    .filter(|&j| c.at(j, col) == INF && poses.get(j).is_some_and(Option::is_some))
-                    .any(|j| cost(j, node, key).is_some_and(|x| x < cut));
-                if open { Flow::Continue } else { Flow::Stop }
-            })?;
+                rev.resume_reverse(map, |v, h, key| column.settled(&poses, near, v, h, key))?;
+            } else {
+                let p = bounds.pos(node);
+                rev.compute_reverse(map, ctx.timing, p, |v, h, key| {
+                    column.settled(&poses, near, v, h, key)
+                })?;
+            }
         }
         Ok(true)
     }
@@ -297,6 +330,86 @@ fn learn<M, F>(
                     *lb = (*lb).max(x);
                 }
             }
+        }
+    }
+}
+
+/// One column's reverse search under way: see `Candidates::reverse_columns`.
+struct Column<'a> {
+    c: &'a mut Candidates,
+    col: usize,
+    node: usize,
+    k: usize,
+    /// How many cheapest robots the column needs.
+    want: usize,
+    found: usize,
+    /// The want-th cheapest cost found, once want are found.
+    cut: Option<i64>,
+    /// The last travel at which not every robot was proven.
+    proven_at: Option<Ticks>,
+    cost: &'a mut dyn FnMut(usize, usize, Ticks) -> Option<i64>,
+}
+
+impl Column<'_> {
+    /// Whether no robot not found yet, standing at travel `at` or more, can
+    /// beat the want-th cheapest found.
+    fn proven(&mut self, at: Ticks) -> bool {
+        if self.found < self.want {
+            return false;
+        }
+        let (c, col, k) = (&*self.c, self.col, self.k);
+        let cut = *self.cut.get_or_insert_with(|| {
+            let mut row = [INF; MAX_ROBOTS];
+            for (j, x) in row.iter_mut().enumerate().take(k) {
+                *x = c.at(j, col);
+            }
+            let row = row.get_mut(..k).unwrap_or(&mut []);
+            row.sort_unstable();
+            row.get(self.want - 1).copied().unwrap_or(INF)
+        });
+        let (node, cost) = (self.node, &mut self.cost);
+        !(0..k)
+            .filter(|&j| c.at(j, col) == INF)
+            .any(|j| cost(j, node, at).is_some_and(|x| x < cut))
+    }
+
+    /// The search settled state (`v`, `h`) at `key`: finds the robots
+    /// standing there, and stops once the column is proven.
+    fn settled(
+        &mut self,
+        poses: &[Option<(usize, Heading)>; MAX_ROBOTS],
+        near: u64,
+        v: usize,
+        h: Heading,
+        key: Ticks,
+    ) -> Flow {
+        if near & (1 << (v % 64)) != 0 {
+            for (j, pose) in poses.iter().enumerate().take(self.k) {
+                if *pose != Some((v, h)) {
+                    continue;
+                }
+                if let (Some(x), Some(e)) = (
+                    (self.cost)(j, self.node, key),
+                    self.c.cost.get_mut(j).and_then(|r| r.get_mut(self.col)),
+                ) {
+                    if *e == INF {
+                        *e = x.clamp(-INF + 1, INF - 1);
+                        self.found += 1;
+                        self.cut = None;
+                        self.proven_at = None;
+                    }
+                }
+            }
+        }
+        // Keys only grow, so one check per key.
+        if self.found < self.want || self.proven_at == Some(key) {
+            return Flow::Continue;
+        }
+        self.proven_at = Some(key);
+        if self.proven(key) {
+            Flow::Stop
+        } else {
+            Flow::Continue
         }
     }
 }

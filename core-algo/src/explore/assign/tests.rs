@@ -2,8 +2,13 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::*;
+use crate::explore::RobotView;
 use crate::explore::tests::random_team;
-use crate::path::min_cells;
+use crate::geometry::{Heading, Pos};
+use crate::map::{Bounds, KnownMap, blocks_for};
+use crate::path::tests::{bfs_order, random_arms, tree_arms};
+use crate::path::{arms_at, min_cells};
+use crate::team::RobotId;
 use crate::timing::Timing;
 use proptest::prelude::*;
 use std::vec;
@@ -109,6 +114,120 @@ proptest! {
             for col in 0..c.m {
                 if c.cost[j][col] < INF {
                     prop_assert_eq!(Some(c.cost[j][col]), full[j][c.nodes[col]]);
+                }
+            }
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// Decisions in a row on one robot's fields, the map growing a node or
+    /// two and robots moving in between: the endgame's reverse searches,
+    /// carried over from decision to decision where the map allows, still
+    /// find a min-sum optimum over every frontier node (against full
+    /// fields searched afresh each time).
+    #[test]
+    fn kept_reverse_searches_lose_no_optimal_assignment(
+        w in 2u16..10, h in 2u16..10, seed in any::<u64>(), tree in any::<bool>(),
+        known in 2usize..60, k in 2usize..17, me in 0usize..16, steps in 1usize..8,
+        grow in 0usize..3, moves in any::<u64>(),
+    ) {
+        let b = Bounds::new(Pos::new(0, 0), w, h);
+        let area = b.area();
+        let arms = if tree { tree_arms(b, seed) } else { random_arms(b, seed) };
+        let order = bfs_order(b, &arms);
+        let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(area)], b).unwrap();
+        let mut visited = 0;
+        for &i in order.iter().take(known) {
+            map.visit(b.pos(i), arms[i], RobotId(0)).unwrap();
+            visited += 1;
+        }
+        let timing = Timing::DEFAULT;
+        let me = me % k;
+        let mut fields: Vec<_> = (0..k).map(|_| DistField::new(vec![PlanCell::EMPTY; min_cells(area)])).collect();
+        let mut rnd = moves | 1;
+        let mut next = move || {
+            rnd ^= rnd << 13;
+            rnd ^= rnd >> 7;
+            rnd ^= rnd << 17;
+            rnd
+        };
+        let mut robots: Vec<RobotView> = Vec::new();
+        for step in 0..steps {
+            if map.is_complete() {
+                break;
+            }
+            let passable: Vec<usize> = (0..area).filter(|&i| arms_at(&map, i).is_some()).collect();
+            // Robots stand on passable nodes; a few move between decisions.
+            for j in 0..k {
+                if step == 0 || next() % 3 == 0 {
+                    let pos = b.pos(passable[(next() % passable.len() as u64) as usize]);
+                    let view = RobotView {
+                        pos,
+                        heading: Heading::from_index((next() % 4) as u8),
+                        eta: (next() % 30) as u32,
+                        home: pos,
+                        target: None,
+                    };
+                    if step == 0 { robots.push(view) } else { robots[j] = RobotView { home: robots[j].home, ..view } }
+                }
+            }
+            let ctx = Context { map: &map, timing, robots: &robots, me };
+            let per_edge = i64::from(timing.edge) / 4;
+            let cost = |j: usize, i: usize, d: Ticks| -> Option<i64> {
+                let r = robots.get(j)?;
+                Some(i64::from(d) + i64::from(r.eta) - per_edge * i64::from(b.pos(i).manhattan(r.home)))
+            };
+            let floor = |j: usize, d: Ticks| -> i64 {
+                let r = &robots[j];
+                let by_travel = (per_edge * i64::from(d) + i64::from(timing.edge) - 1) / i64::from(timing.edge)
+                    + per_edge * i64::from(r.pos.manhattan(r.home));
+                let by_extent = map.farthest_visited(r.home).map_or(i64::MAX, |f| per_edge * (i64::from(f) + 1));
+                i64::from(d) + i64::from(r.eta) - by_travel.min(by_extent)
+            };
+            let bound = |_: usize, _: usize| i64::MIN;
+            let c = Candidates::cheapest(&ctx, &mut fields, k, 0, (false, true), cost, floor, bound)
+                .unwrap()
+                .unwrap();
+            let mut full = vec![vec![None; area]; k];
+            for (j, r) in robots.iter().enumerate() {
+                let mut f = DistField::new(vec![PlanCell::EMPTY; min_cells(area)]);
+                f.compute(&map, timing, r.pos, r.heading, |_, _| Flow::Continue).unwrap();
+                for i in 0..area {
+                    if map.is_frontier_at(i) {
+                        full[j][i] = f.dist_at(i).and_then(|d| cost(j, i, d));
+                    }
+                }
+            }
+            let frontier: Vec<usize> = (0..area).filter(|&i| map.is_frontier_at(i)).collect();
+            prop_assume!(frontier.len() <= MAX_CANDIDATES);
+            let mut all = Candidates::empty(k);
+            all.m = frontier.len();
+            for (col, &i) in frontier.iter().enumerate() {
+                all.nodes[col] = i;
+                for j in 0..k {
+                    if let Some(x) = full[j][i] {
+                        all.cost[j][col] = x;
+                    }
+                }
+            }
+            let best = total(&hungarian_cols(&all, AssignmentObjective::MinSum), &all.nodes, &full);
+            let got = total(&hungarian_cols(&c, AssignmentObjective::MinSum), &c.nodes, &full);
+            prop_assert_eq!(got, best, "step {}", step);
+            for j in 0..k {
+                for col in 0..c.m {
+                    if c.cost[j][col] < INF {
+                        prop_assert_eq!(Some(c.cost[j][col]), full[j][c.nodes[col]]);
+                    }
+                }
+            }
+            // The map grows by the next nodes a robot would find.
+            for _ in 0..grow.max(1) {
+                if let Some(&i) = order.get(visited) {
+                    map.visit(b.pos(i), arms[i], RobotId(0)).unwrap();
+                    visited += 1;
                 }
             }
         }

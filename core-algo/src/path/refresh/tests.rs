@@ -1,4 +1,4 @@
-use super::super::tests::{bfs_order, random_arms};
+use super::super::tests::{bfs_order, random_arms, tree_arms};
 use super::super::*;
 use crate::geometry::Arms;
 use crate::map::blocks_for;
@@ -6,38 +6,6 @@ use crate::team::RobotId;
 use proptest::prelude::*;
 use std::vec;
 use std::vec::Vec;
-
-/// A perfect maze: a random depth-first spanning tree of the lattice.
-fn tree_arms(bounds: Bounds, seed: u64) -> Vec<Arms> {
-    let mut s = seed | 1;
-    let mut rnd = move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        s
-    };
-    let mut arms = vec![Arms::NONE; bounds.area()];
-    let mut seen = vec![false; bounds.area()];
-    let mut stack = vec![0usize];
-    seen[0] = true;
-    while let Some(&i) = stack.last() {
-        let open: Vec<(Heading, usize)> = Heading::ALL
-            .into_iter()
-            .filter_map(|h| neighbour_index(bounds, i, h).map(|j| (h, j)))
-            .filter(|&(_, j)| !seen[j])
-            .collect();
-        if open.is_empty() {
-            stack.pop();
-            continue;
-        }
-        let (h, j) = open[(rnd() % open.len() as u64) as usize];
-        arms[i] = arms[i].with(h);
-        arms[j] = arms[j].with(h.opposite());
-        seen[j] = true;
-        stack.push(j);
-    }
-    arms
-}
 
 fn field_for(area: usize) -> DistField<Vec<PlanCell>> {
     DistField::new(vec![PlanCell::EMPTY; min_cells(area)])
