@@ -151,6 +151,14 @@ where
                     f.passes_any(map, v, set)
                 })
         };
+        // Where the other team mates stand, but the bumper.
+        let mates_at: Vec<usize, MAX_ROBOTS> = peers
+            .iter()
+            .enumerate()
+            .filter(|&(i, q)| i != me && q.known && !q.failed)
+            .filter_map(|(_, q)| bounds.index(q.pos))
+            .filter(|&at| at != blocked)
+            .collect();
         let pose = (self.pos, self.heading);
         let here = bounds.index(self.pos);
         // Only a bumper whose way comes through here can be seen to pass
@@ -192,14 +200,7 @@ where
                         mine.first_back(map, v, |u| u == h || theirs.path_passes(map, goal, u))
                     });
                     let spot = Some((bounds.pos(v), leave.map(|u| bounds.pos(u))));
-                    let blocked_by_mate = peers.iter().enumerate().any(|(i, q)| {
-                        i != me
-                            && q.known
-                            && !q.failed
-                            && bounds
-                                .index(q.pos)
-                                .is_some_and(|at| at != blocked && mine.path_passes(map, v, at))
-                    });
+                    let blocked_by_mate = mine.path_passes_any(map, v, &mates_at);
                     if !blocked_by_mate {
                         return spot;
                     }

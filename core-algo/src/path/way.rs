@@ -189,6 +189,37 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         walked && hit
     }
 
+    /// Whether the cheapest path to node `target` drives through any of the
+    /// nodes `vias`, as [`DistField::path_passes`] says for each: one walk
+    /// back for all of them. A retreat asks it of every spot it looks at
+    /// with every team mate's place, in a crowded maze a quarter of a run
+    /// when each walked alone (docs/results/performance.md, stop 29).
+    pub fn path_passes_any<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        target: usize,
+        vias: &[usize],
+    ) -> bool {
+        if self.way == Some((Marked::Way(target), map.revision())) {
+            return vias.iter().any(|&via| self.path_passes(map, target, via));
+        }
+        // Distances fall along the walk back: below the nearest via's, it
+        // cannot meet any of them any more.
+        let Some(dv) = vias.iter().filter_map(|&via| self.dist_at(via)).min() else {
+            return false;
+        };
+        let mut hit = false;
+        let walked = self.walk_back_while(map, target, |v, _, d| {
+            hit |= vias.contains(&v);
+            if hit || d < dv {
+                Flow::Stop
+            } else {
+                Flow::Continue
+            }
+        });
+        walked && hit
+    }
+
     /// Marks the cheapest path to node `target`, so that
     /// [`DistField::path_passes`] answers for it in O(1) until the field or
     /// the map changes. Homecoming and retreats ask whether each of many
@@ -281,7 +312,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let complete = q.a_len == 0 && q.b_len == 0 && q.pending.is_none();
         let rev = map.revision();
         if !complete || self.tree != Some(rev) || vias.len() > MAX_VIAS {
-            return vias.iter().any(|&via| self.path_passes(map, v, via));
+            return self.path_passes_any(map, v, vias);
         }
         let same = matches!(&self.memo, Some((k, r)) if *r == rev && k.as_slice() == vias);
         if !same {
