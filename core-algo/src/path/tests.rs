@@ -679,3 +679,31 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(512))]
+
+    /// One walk back for many nodes answers as one walk for each would,
+    /// with the way marked or not.
+    #[test]
+    fn path_passes_any_agrees_with_each_alone(
+        w in 2u16..10, h in 2u16..10, seed in any::<u64>(), known in 1usize..80,
+        start in any::<usize>(), target in any::<usize>(),
+        vias in proptest::collection::vec(any::<usize>(), 0..6), mark in any::<bool>(),
+    ) {
+        let map = random_known(w, h, seed, known);
+        let b = map.bounds();
+        let area = b.area();
+        let passable: Vec<usize> = (0..area).filter(|&i| arms_at(&map, i).is_some()).collect();
+        let s0 = passable[start % passable.len()];
+        let mut f = field_for(area);
+        f.compute(&map, Timing::DEFAULT, b.pos(s0), Heading::East, |_, _| Flow::Continue).unwrap();
+        let target = target % area;
+        let vias: Vec<usize> = vias.iter().map(|v| v % area).collect();
+        if mark {
+            f.mark_way(&map, target);
+        }
+        let each = vias.iter().any(|&v| f.path_passes(&map, target, v));
+        prop_assert_eq!(f.path_passes_any(&map, target, &vias), each);
+    }
+}
