@@ -7,8 +7,10 @@
 //! partial fields grown only as far as the assignment needs: each robot's
 //! field to its own k cheapest frontier nodes under tempo's costs, and, once
 //! fewer frontier nodes than robots are left, only the fields of robots that
-//! could be among a node's cheapest (`Candidates::cheapest`; no optimal
-//! assignment is lost, see `assign`). A robot left
+//! could be among a node's cheapest, or in teams above six one search back
+//! from each frontier node to its cheapest robots, kept from decision to
+//! decision (`Candidates::cheapest`; no optimal assignment is lost, see
+//! `assign`). A robot left
 //! without a share trails to its nearest frontier node if that is at most 8
 //! edges away, or at any distance in a sparse team (at least 48 nodes of
 //! the map window per robot), in a team of at most six; else it *waits
