@@ -27,7 +27,7 @@ impl Candidates {
     ///
     /// With `reverse`, each frontier node's m cheapest robots come from one
     /// reverse search instead (see [`Candidates::reverse_columns`]): the same
-    /// optimum at about half the states, but other forbidden pairs, so where
+    /// optimum in about half the time, but other forbidden pairs, so where
     /// several assignments cost the same the Hungarian may pick another one.
     /// Tempo uses it where its tie-break makes the optimum unique.
     pub(super) fn endgame<M, F>(
@@ -178,7 +178,7 @@ impl Candidates {
     /// Why: the forward way grew team mates' fields until their costs could
     /// no longer matter, most of a 16-robot maze run's time. On maze 64²
     /// with 16 robots the reverse searches gave the same assignment in all
-    /// 14 987 decisions of a run at about half the states (docs/results/
+    /// 14 987 decisions of a run in about half the time (docs/results/
     /// performance.md, stop 29).
     ///
     /// Each search stays in a team mate's field slot, and the next decision
