@@ -26,6 +26,51 @@ fn total(cols: &[Option<usize>], nodes: &[usize], full: &[Vec<Option<i64>>]) -> 
     (n, sum)
 }
 
+/// Every robot's cost for every node from a full field searched afresh
+/// (`None`: not a frontier node, or out of reach), and the min-sum
+/// optimum over every frontier node: (robots assigned, total); `None`
+/// when the frontier is too large for one matrix.
+#[allow(clippy::type_complexity)]
+fn full_costs(
+    map: &KnownMap<Vec<Block>>,
+    timing: Timing,
+    robots: &[RobotView],
+    cost: impl Fn(usize, usize, Ticks) -> Option<i64>,
+) -> (Vec<Vec<Option<i64>>>, Option<(usize, i64)>) {
+    let (area, k) = (map.bounds().area(), robots.len());
+    let mut full = vec![vec![None; area]; k];
+    for (j, r) in robots.iter().enumerate() {
+        let mut f = DistField::new(vec![PlanCell::EMPTY; min_cells(area)]);
+        f.compute(map, timing, r.pos, r.heading, |_, _| Flow::Continue)
+            .unwrap();
+        for i in 0..area {
+            if map.is_frontier_at(i) {
+                full[j][i] = f.dist_at(i).and_then(|d| cost(j, i, d));
+            }
+        }
+    }
+    let frontier: Vec<usize> = (0..area).filter(|&i| map.is_frontier_at(i)).collect();
+    if frontier.len() > MAX_CANDIDATES {
+        return (full, None);
+    }
+    let mut all = Candidates::empty(k);
+    all.m = frontier.len();
+    for (col, &i) in frontier.iter().enumerate() {
+        all.nodes[col] = i;
+        for j in 0..k {
+            if let Some(x) = full[j][i] {
+                all.cost[j][col] = x;
+            }
+        }
+    }
+    let best = total(
+        &hungarian_cols(&all, AssignmentObjective::MinSum),
+        &all.nodes,
+        &full,
+    );
+    (full, Some(best))
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(2048))]
 
@@ -73,32 +118,10 @@ proptest! {
         let field = || DistField::new(vec![PlanCell::EMPTY; min_cells(area)]);
         let mut fields: Vec<_> = (0..k).map(|_| field()).collect();
         let c = Candidates::cheapest(&ctx, &mut fields, k, 0, (lazy, reverse), cost, floor, bound).unwrap().unwrap();
-        // Every robot's full field, every frontier node.
-        let mut full = vec![vec![None; area]; k];
-        for (j, r) in robots.iter().enumerate() {
-            let mut f = field();
-            f.compute(&map, timing, r.pos, r.heading, |_, _| Flow::Continue).unwrap();
-            for i in 0..area {
-                if map.is_frontier_at(i) {
-                    full[j][i] = f.dist_at(i).and_then(|d| cost(j, i, d));
-                }
-            }
-        }
-        let frontier: Vec<usize> = (0..area).filter(|&i| map.is_frontier_at(i)).collect();
-        prop_assume!(frontier.len() <= MAX_CANDIDATES);
-        let mut all = Candidates::empty(k);
-        all.m = frontier.len();
-        for (col, &i) in frontier.iter().enumerate() {
-            all.nodes[col] = i;
-            for j in 0..k {
-                if let Some(x) = full[j][i] {
-                    all.cost[j][col] = x;
-                }
-            }
-        }
-        let best = total(&hungarian_cols(&all, AssignmentObjective::MinSum), &all.nodes, &full);
+        let (full, best) = full_costs(&map, timing, &robots, cost);
+        prop_assume!(best.is_some());
         let got = total(&hungarian_cols(&c, AssignmentObjective::MinSum), &c.nodes, &full);
-        prop_assert_eq!(got, best);
+        prop_assert_eq!(Some(got), best);
         // The decider's field is its own search, and it reaches every node
         // the decider may be given: tempo takes the way from it.
         let (mine, r) = (me % k, &robots[me % k]);
@@ -191,31 +214,10 @@ proptest! {
             let c = Candidates::cheapest(&ctx, &mut fields, k, 0, (false, true), cost, floor, bound)
                 .unwrap()
                 .unwrap();
-            let mut full = vec![vec![None; area]; k];
-            for (j, r) in robots.iter().enumerate() {
-                let mut f = DistField::new(vec![PlanCell::EMPTY; min_cells(area)]);
-                f.compute(&map, timing, r.pos, r.heading, |_, _| Flow::Continue).unwrap();
-                for i in 0..area {
-                    if map.is_frontier_at(i) {
-                        full[j][i] = f.dist_at(i).and_then(|d| cost(j, i, d));
-                    }
-                }
-            }
-            let frontier: Vec<usize> = (0..area).filter(|&i| map.is_frontier_at(i)).collect();
-            prop_assume!(frontier.len() <= MAX_CANDIDATES);
-            let mut all = Candidates::empty(k);
-            all.m = frontier.len();
-            for (col, &i) in frontier.iter().enumerate() {
-                all.nodes[col] = i;
-                for j in 0..k {
-                    if let Some(x) = full[j][i] {
-                        all.cost[j][col] = x;
-                    }
-                }
-            }
-            let best = total(&hungarian_cols(&all, AssignmentObjective::MinSum), &all.nodes, &full);
+            let (full, best) = full_costs(&map, timing, &robots, cost);
+            prop_assume!(best.is_some());
             let got = total(&hungarian_cols(&c, AssignmentObjective::MinSum), &c.nodes, &full);
-            prop_assert_eq!(got, best, "step {}", step);
+            prop_assert_eq!(Some(got), best, "step {}", step);
             for j in 0..k {
                 for col in 0..c.m {
                     if c.cost[j][col] < INF {
