@@ -40,7 +40,7 @@ impl Changes {
         if let Some(e) = self.log.get_mut(slot) {
             *e = (revision, i as u32);
         }
-        self.pushed += 1;
+        self.pushed = self.pushed.saturating_add(1);
     }
 
     /// The nodes that became passable after revision `since`, up to
