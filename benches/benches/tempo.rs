@@ -9,10 +9,10 @@
 //! fields (`forward`, the way of teams up to six), one reverse search per
 //! frontier node (`reverse`), and the next decision after one more visit
 //! with those searches carried over (`kept`).
-use conquest_benches::half_known;
+use conquest_benches::{bfs_known, half_known};
 use core_algo::explore::{Context, RobotView, Strategy, Tempo, TempoConfig};
 use core_algo::geometry::{Heading, Pos};
-use core_algo::map::{Block, KnownMap, blocks_for};
+use core_algo::map::{Block, KnownMap};
 use core_algo::path::{DistField, Flow, PlanCell, min_cells};
 use core_algo::team::RobotId;
 use core_algo::timing::Timing;
@@ -81,14 +81,10 @@ fn bench_tempo(c: &mut Criterion) {
 /// start known, and 16 robots spread over the known nodes; also the next
 /// node in that order, the one a robot finds next.
 fn endgame_case(f: &Field, left: usize) -> (KnownMap<Vec<Block>>, Vec<RobotView>, Pos) {
-    let b = f.bounds();
     let start = f.starts()[0].pos;
     let order = f.bfs_order(start);
     let known = order.len() - left;
-    let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).expect("capacity");
-    for p in &order[..known] {
-        let _ = map.visit(*p, f.arms(*p).unwrap_or_default(), RobotId(0));
-    }
+    let map = bfs_known(f, &order, known);
     let robots = (0..16)
         .map(|j| RobotView {
             pos: order[(known - 1) * (16 - j) / 17],

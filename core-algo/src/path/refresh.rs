@@ -44,11 +44,11 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let Some((g, since)) = self.rev_open else {
             return false;
         };
-        if since == map.revision() {
-            return self.timing == super::searchable(timing) && self.bounds == map.bounds();
-        }
         if self.bounds != map.bounds() || self.timing != super::searchable(timing) {
             return false;
+        }
+        if since == map.revision() {
+            return true;
         }
         let Some(changed) = map.passable_since(since) else {
             return false;

@@ -107,15 +107,7 @@ impl Candidates {
         }
         // The m-th cheapest searched robot of column `col`: a robot that
         // cannot beat it is not needed there.
-        let threshold = |c: &Candidates, col: usize| -> i64 {
-            let mut best = [INF; MAX_ROBOTS];
-            for (j, b) in best.iter_mut().enumerate().take(k) {
-                *b = c.at(j, col);
-            }
-            let row = best.get_mut(..k).unwrap_or(&mut []);
-            row.sort_unstable();
-            row.get(m - 1).copied().unwrap_or(INF)
-        };
+        let threshold = |c: &Candidates, col: usize| c.nth_cheapest(col, m);
         // The other robots, likeliest to matter first.
         let mut order = [(0i64, 0usize); MAX_ROBOTS];
         for (j, o) in order.iter_mut().enumerate().take(k) {
@@ -168,6 +160,21 @@ impl Candidates {
         Ok(Some(c))
     }
 
+    /// The `n`-th cheapest cost in column `col` (`INF` if fewer robots have
+    /// one): a robot that cannot beat it is not needed there.
+    fn nth_cheapest(&self, col: usize, n: usize) -> i64 {
+        let mut row = [INF; MAX_ROBOTS];
+        for (j, x) in row.iter_mut().enumerate().take(self.k) {
+            *x = self.at(j, col);
+        }
+        let row = row.get_mut(..self.k).unwrap_or(&mut []);
+        row.sort_unstable();
+        n.checked_sub(1)
+            .and_then(|i| row.get(i))
+            .copied()
+            .unwrap_or(INF)
+    }
+
     /// Fills every column's m cheapest robots (m = `self.m` frontier nodes,
     /// in `self.nodes`) from one reverse search per node: from every pose,
     /// the time to reach it. A search stops once its m cheapest robots are
@@ -211,8 +218,9 @@ impl Candidates {
             }
         }
         let team = |s: usize| s < k && s != me;
-        // Each column's slot: the one that holds its search, else one that
-        // holds no column's.
+        // Each column's slot: the one that holds its search, else any other
+        // (every frontier node is a column, so what another slot holds is
+        // dead, or a second copy).
         let mut slot = [None; MAX_ROBOTS];
         let mut used = [false; MAX_ROBOTS];
         for (col, sl) in slot.iter_mut().enumerate().take(m) {
@@ -228,16 +236,7 @@ impl Candidates {
             if slot.get(col).copied().flatten().is_some() {
                 continue;
             }
-            let free = (0..k).find(|&s| {
-                team(s)
-                    && !used.get(s).copied().unwrap_or(true)
-                    && !fields
-                        .get(s)
-                        .and_then(|f| f.reverse_goal())
-                        .is_some_and(|g| self.nodes.get(..m).unwrap_or(&[]).contains(&g))
-            });
-            let free =
-                free.or_else(|| (0..k).find(|&s| team(s) && !used.get(s).copied().unwrap_or(true)));
+            let free = (0..k).find(|&s| team(s) && !used.get(s).copied().unwrap_or(true));
             let (Some(s), Some(sl)) = (free, slot.get_mut(col)) else {
                 return Ok(false);
             };
@@ -358,15 +357,9 @@ impl Column<'_> {
             return false;
         }
         let (c, col, k) = (&*self.c, self.col, self.k);
-        let cut = *self.cut.get_or_insert_with(|| {
-            let mut row = [INF; MAX_ROBOTS];
-            for (j, x) in row.iter_mut().enumerate().take(k) {
-                *x = c.at(j, col);
-            }
-            let row = row.get_mut(..k).unwrap_or(&mut []);
-            row.sort_unstable();
-            row.get(self.want - 1).copied().unwrap_or(INF)
-        });
+        let cut = *self
+            .cut
+            .get_or_insert_with(|| c.nth_cheapest(col, self.want));
         let (node, cost) = (self.node, &mut self.cost);
         !(0..k)
             .filter(|&j| c.at(j, col) == INF)
