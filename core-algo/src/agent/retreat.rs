@@ -106,11 +106,21 @@ where
         // With a third field: not behind the bumper's goal as seen from
         // our home, or we would only be shut in once it is there.
         let home = self.home;
-        let mut homeward = rest.first_mut().and_then(|f| {
+        let (homeward, spare) = match rest.split_first_mut() {
+            Some((f, spare)) => (Some(f), spare),
+            None => (None, &mut [][..]),
+        };
+        let mut homeward = homeward.and_then(|f| {
             f.compute(map, timing, home, Heading::North, |_, _| Flow::Continue)
                 .is_ok()
                 .then_some(f)
         });
+        let pose = (self.pos, self.heading);
+        let mut through_bumper = ThroughBumper {
+            whole: spare.last_mut(),
+            walks: 0,
+            ready: false,
+        };
         theirs.mark_way(map, goal);
         let theirs = &*theirs;
         // Another team mate's home or place: never a spot, nor room aside.
@@ -159,7 +169,6 @@ where
             .filter_map(|(_, q)| bounds.index(q.pos))
             .filter(|&at| at != blocked)
             .collect();
-        let pose = (self.pos, self.heading);
         let here = bounds.index(self.pos);
         // Only a bumper whose way comes through here can be seen to pass
         // (one that bumped us on its way elsewhere, to a retreat spot of its
@@ -195,7 +204,7 @@ where
                     Ok(None) if through_mate.is_none() => break,
                     _ => return through_mate,
                 };
-                if !mine.path_passes(map, v, blocked) {
+                if !through_bumper.ask(map, timing, pose, mine, (v, blocked)) {
                     let leave = through_here.and_then(|h| {
                         mine.first_back(map, v, |u| u == h || theirs.path_passes(map, goal, u))
                     });
@@ -390,6 +399,60 @@ where
 /// (see `on_bumped`); home once the map is complete (a target announced
 /// then is a retreat spot, and the way that matters to whoever it bumps is
 /// the one home, which it takes next); else its target, if any.
+/// Whether our cheapest way to a spot drives through the bumper, asked
+/// for spot after spot, nearest first, while a retreat looks for one.
+///
+/// Each answer walks our way back from the spot: O(way length). Shut in
+/// behind the bumper, every spot of the field is asked, and in a maze of
+/// 128² with 16 robots these walks were a quarter of the run. After a few
+/// walks, a spare field (when the agent has one) gets a whole search from
+/// our pose: the same shortest-path tree, as searches are deterministic,
+/// so the same answers, which [`DistField::passes`] then memoises for all
+/// spots in O(map) altogether.
+struct ThroughBumper<'a, F> {
+    /// The agent's last field, if it has more than the three a retreat
+    /// plans in. A strategy may keep a search there between decisions
+    /// (tempo's endgame does, in team mates' slots); a search here only
+    /// costs it a fresh one, as a new search forgets what a field kept.
+    whole: Option<&'a mut DistField<F>>,
+    /// Walks so far.
+    walks: u32,
+    /// Whether `whole` holds the whole search.
+    ready: bool,
+}
+
+/// Walks a retreat takes before it searches the spare field whole: most
+/// retreats take one of the first few spots.
+const WALKS_BEFORE_WHOLE: u32 = 4;
+
+impl<F: AsRef<[PlanCell]> + AsMut<[PlanCell]>> ThroughBumper<'_, F> {
+    /// Whether `mine`'s cheapest way (a search from `pose`, perhaps still
+    /// growing) to node `v` drives through node `blocked`.
+    fn ask<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: crate::timing::Timing,
+        (pos, heading): (Pos, Heading),
+        mine: &DistField<F>,
+        (v, blocked): (usize, usize),
+    ) -> bool {
+        if !self.ready && self.walks >= WALKS_BEFORE_WHOLE {
+            if let Some(f) = self.whole.as_mut() {
+                self.ready = f
+                    .compute(map, timing, pos, heading, |_, _| Flow::Continue)
+                    .is_ok();
+            }
+        }
+        match (self.ready, self.whole.as_mut()) {
+            (true, Some(f)) => f.passes(map, v, blocked),
+            _ => {
+                self.walks += 1;
+                mine.path_passes(map, v, blocked)
+            }
+        }
+    }
+}
+
 fn way_end(q: &Peer, chained: bool, complete: bool) -> Pos {
     match q.target {
         Some(t) if chained || !complete => t,
@@ -398,161 +461,4 @@ fn way_end(q: &Peer, chained: bool, complete: bool) -> Pos {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::explore::NearestFrontier;
-    use crate::map::{Bounds, blocks_for};
-    use crate::path::min_cells;
-    use std::vec;
-    use std::vec::Vec as StdVec;
-
-    type ThreeFields = Agent<StdVec<Block>, StdVec<PlanCell>, NearestFrontier, 3>;
-
-    /// Robot 1 standing at (0, 0), the dead end of a corridor that runs
-    /// north to (0, 3) with a side arm at (0, 2) to (1, 2); robot 0 stands
-    /// at (0, 1) and its home is (0, 0): the two are swapped. `homes`
-    /// lists more team mates' homes (they stand at home).
-    fn swapped(homes: &[Pos]) -> ThreeFields {
-        let ns = Arms::NONE.with(Heading::North).with(Heading::South);
-        let nodes = [
-            (0, 0, Arms::NONE.with(Heading::North)),
-            (0, 1, ns),
-            (0, 2, ns.with(Heading::East)),
-            (1, 2, Arms::NONE.with(Heading::West)),
-            (0, 3, Arms::NONE.with(Heading::South)),
-        ];
-        let mut a = returning(Bounds::new(Pos::new(0, 0), 2, 4), nodes);
-        a.pos = Pos::new(0, 0);
-        a.heading = Heading::North;
-        a.home = Pos::new(0, 1);
-        a.peers[0] = mate(Pos::new(0, 1), Pos::new(0, 0));
-        for (i, &home) in homes.iter().enumerate() {
-            a.peers[i + 2] = mate(home, home);
-        }
-        a
-    }
-
-    /// Robot 1 on its way home (no pose or home set yet) on the complete
-    /// map of `nodes`.
-    fn returning(bounds: Bounds, nodes: impl IntoIterator<Item = (i16, i16, Arms)>) -> ThreeFields {
-        let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(bounds.area())], bounds).unwrap();
-        for (x, y, arms) in nodes {
-            map.visit(Pos::new(x, y), arms, RobotId(0)).unwrap();
-        }
-        assert!(map.is_complete());
-        let fields = core::array::from_fn(|_| {
-            DistField::new(vec![PlanCell::EMPTY; min_cells(bounds.area())])
-        });
-        let mut a = Agent::new(
-            RobotId(1),
-            map,
-            fields,
-            NearestFrontier,
-            AgentConfig::default(),
-        );
-        a.mode = Mode::Return;
-        a
-    }
-
-    /// A known team mate at `pos`, heading south, whose home is `home`.
-    fn mate(pos: Pos, home: Pos) -> Peer {
-        Peer {
-            known: true,
-            pos,
-            home,
-            heading: Heading::South,
-            ..NO_PEER
-        }
-    }
-
-    /// Shut in behind the team mate it must make way for, a robot pushes
-    /// through it: past the first node where the team mate can step aside,
-    /// (0, 2), to (0, 3), not to (0, 2) itself (the team mate, with
-    /// nowhere to go, would only stand in our way again).
-    #[test]
-    fn shut_in_behind_the_bumper_pushes_past_a_node_with_room_aside() {
-        let mut a = swapped(&[]);
-        let goal = a.map.bounds().index(Pos::new(0, 0)).unwrap();
-        assert_eq!(
-            a.retreat_spot(goal, Pos::new(0, 1)),
-            Some((Pos::new(0, 3), None))
-        );
-        assert!(a.plan_retreat(0, false));
-        let mut out = Commands::new();
-        a.decide(&mut out);
-        assert_eq!(
-            out.first(),
-            Some(&Command::Announce {
-                target: Some(Pos::new(0, 3))
-            })
-        );
-        assert!(out.contains(&Command::Move), "{out:?}");
-    }
-
-    /// A corridor home, (0, `len`) down to the dead end (0, 0), with side
-    /// arms at (0, 2) to (1, 2) and at (0, 0) to (1, 0). Robot 1 (home
-    /// (0, 1)) stands at (0, `len` - 2), robot 0 (home (0, 0), deeper)
-    /// right behind it, robot 2 (home (1, 2)) far behind at (0, `len`).
-    fn corridor_home(len: i16) -> ThreeFields {
-        let ns = Arms::NONE.with(Heading::North).with(Heading::South);
-        let west = Arms::NONE.with(Heading::West);
-        let sides = [
-            (0, 0, Arms::NONE.with(Heading::North).with(Heading::East)),
-            (1, 0, west),
-            (0, 2, ns.with(Heading::East)),
-            (1, 2, west),
-            (0, len, Arms::NONE.with(Heading::South)),
-        ];
-        let corridor = (1..len).filter(|&y| y != 2).map(|y| (0, y, ns));
-        let bounds = Bounds::new(Pos::new(0, 0), 2, len as u16 + 1);
-        let mut a = returning(bounds, sides.into_iter().chain(corridor));
-        a.pos = Pos::new(0, len - 2);
-        a.heading = Heading::South;
-        a.home = Pos::new(0, 1);
-        a.peers[0] = mate(Pos::new(0, len - 1), Pos::new(0, 0));
-        a.peers[2] = mate(Pos::new(0, len), Pos::new(1, 2));
-        a
-    }
-
-    /// Ahead of the bumper on its way home and far from our own, with no
-    /// spot that passes every check (the side arm is a team mate's home), a
-    /// robot steps into that empty home ahead rather than pushing back
-    /// through the bumper: in a maze corridor the push had three robots
-    /// dance until the time limit. Never behind the bumper's goal, though
-    /// (shut in for good once it is home), never through a team mate, and
-    /// never near home, where such steps swapped robots in a cycle of homes.
-    #[test]
-    fn ahead_of_the_bumper_steps_aside_ahead_not_back_through_it() {
-        let mut a = corridor_home(13);
-        // The bumper's way home, in the first field, as `plan_retreat` plans it.
-        let (_, goal) = a.plan_way_of(0, false).unwrap();
-        assert_eq!(goal, a.map.bounds().index(Pos::new(0, 0)).unwrap());
-        assert_eq!(
-            a.retreat_spot(goal, Pos::new(0, 12)),
-            Some((Pos::new(1, 2), Some(Pos::new(0, 2))))
-        );
-        // Someone standing on that home: the only spot ahead, (1, 0), lies
-        // behind the bumper's goal, and there is no room to push.
-        a.peers[2].pos = Pos::new(1, 2);
-        a.plan_way_of(0, false).unwrap();
-        assert_eq!(a.retreat_spot(goal, Pos::new(0, 12)), None);
-        // A team mate standing in the corridor ahead: no spot through it.
-        let mut a = corridor_home(13);
-        a.peers[3] = mate(Pos::new(0, 6), Pos::new(0, 6));
-        let (_, goal) = a.plan_way_of(0, false).unwrap();
-        assert_eq!(a.retreat_spot(goal, Pos::new(0, 12)), None);
-        // Near home (3 edges), not even the empty home.
-        let mut a = corridor_home(6);
-        let (_, goal) = a.plan_way_of(0, false).unwrap();
-        assert_eq!(a.retreat_spot(goal, Pos::new(0, 5)), None);
-    }
-
-    /// With the side arm someone's home there is no room aside anywhere:
-    /// no push (it would only squeeze the two together).
-    #[test]
-    fn no_push_without_room_for_the_bumper_to_step_aside() {
-        let mut a = swapped(&[Pos::new(1, 2)]);
-        let goal = a.map.bounds().index(Pos::new(0, 0)).unwrap();
-        assert_eq!(a.retreat_spot(goal, Pos::new(0, 1)), None);
-    }
-}
+mod tests;
