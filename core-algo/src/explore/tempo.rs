@@ -380,6 +380,8 @@ where
         };
         match mine {
             Some(i) => {
+                // The reverse endgame searched no field of ours.
+                search_to(ctx, f, i)?;
                 let d = explore_decision(ctx, f, i);
                 if !endgame {
                     self.keep(ctx, Some(i), d);
@@ -421,6 +423,37 @@ impl Tempo {
             *slot = Commitment::after(ctx, share, d.next);
         }
     }
+}
+
+/// Makes `field` a search from the deciding robot's pose that holds its
+/// cheapest way to node `i`, if it is not one already: grown until every
+/// state as cheap as `i`'s cheapest is settled, so that the way, ties
+/// included, is the one a whole search holds.
+fn search_to<M, F>(
+    ctx: &Context<'_, M>,
+    field: &mut DistField<F>,
+    i: usize,
+) -> Result<(), PlanError>
+where
+    M: AsRef<[Block]> + AsMut<[Block]>,
+    F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+{
+    let Some(r) = ctx.my() else {
+        return Ok(());
+    };
+    if field.is_search_from(ctx.map, ctx.timing, r.pos, r.heading) && field.dist_at(i).is_some() {
+        return Ok(());
+    }
+    let mut at = None;
+    field.compute(ctx.map, ctx.timing, r.pos, r.heading, |v, d| {
+        if at.is_some_and(|a| d > a) {
+            return Flow::Stop;
+        }
+        if v == i {
+            at = Some(d);
+        }
+        Flow::Continue
+    })
 }
 
 /// Tempo's costs are travel times scaled by this, plus a tie-break below

@@ -450,3 +450,38 @@ fn a_large_team_decides_alike_whoever_decides() {
     };
     assert!(duplicates(untied) > 0, "no team here has a tie to break");
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// `search_to` leaves the decider's field holding the way a whole
+    /// search holds, ties included, to every reachable frontier node.
+    #[test]
+    fn search_to_holds_the_whole_search_s_way(
+        w in 2u16..12, h in 2u16..12, seed in any::<u64>(), frac in 0.05f64..1.0,
+        k in 1usize..5, me in 0usize..4,
+    ) {
+        let (map, robots) = random_team(w, h, seed, frac, k);
+        let me = me % k;
+        let ctx = Context { map: &map, timing: Timing::DEFAULT, robots: &robots, me };
+        let r = &robots[me];
+        let mut fields = fresh_fields(map.bounds().area(), 2);
+        let (whole, part) = fields.split_at_mut(1);
+        let (whole, part) = (&mut whole[0], &mut part[0]);
+        whole
+            .compute(&map, ctx.timing, r.pos, r.heading, |_, _| Flow::Continue)
+            .unwrap();
+        let b = map.bounds();
+        for p in map.frontier() {
+            let i = b.index(p).unwrap();
+            if whole.dist_at(i).is_none() {
+                continue;
+            }
+            part.compute_reverse(&map, ctx.timing, p, |_, _, _| Flow::Continue).unwrap();
+            search_to(&ctx, part, i).unwrap();
+            prop_assert!(part.is_search_from(&map, ctx.timing, r.pos, r.heading));
+            prop_assert_eq!(part.first_heading(&map, i), whole.first_heading(&map, i));
+            prop_assert_eq!(part.dist_at(i), whole.dist_at(i));
+        }
+    }
+}
