@@ -9,7 +9,8 @@
 //! fewer frontier nodes than robots are left, only the fields of robots that
 //! could be among a node's cheapest, or in teams above six one search back
 //! from each frontier node to its cheapest robots, kept from decision to
-//! decision (`Candidates::cheapest`; no optimal assignment is lost, see
+//! decision, the robot's own field then searched only to the node it
+//! gets (`Candidates::cheapest`; no optimal assignment is lost, see
 //! `assign`). A robot left
 //! without a share trails to its nearest frontier node if that is at most 8
 //! edges away, or at any distance in a sparse team (at least 48 nodes of
