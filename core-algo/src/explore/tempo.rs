@@ -133,7 +133,8 @@ pub struct TempoConfig {
     /// mazes (docs/results/performance.md, stop 26).
     pub corridor_keeps_share: bool,
     /// Teams of more than this many robots break ties between equally
-    /// cheap assignments by `tie_break` (private), the same in every robot. Small
+    /// cheap assignments by a tie-break that every robot computes alike
+    /// (see the module docs). Small
     /// teams keep the Hungarian's own order (the deciding robot's nearest
     /// frontier node first), which measured 1.5 % shorter on 12² and 16²
     /// fields; teams of 10 and 16 on 40² fields were 3.6 % shorter with
