@@ -35,6 +35,7 @@ use crate::geometry::{Arms, Heading, Pos};
 use crate::map::{Block, Bounds, KnownMap};
 use crate::timing::{Ticks, Timing};
 use core::fmt;
+pub use refresh::way_in;
 use scratch::{DIST_MASK, Dirty, NO_OFF, ON_WAY, Queues, SETTLED_SHIFT};
 pub use scratch::{MAX_DIST, PlanCell, SMALL_WINDOW, min_cells};
 

@@ -8,7 +8,8 @@
 //! newly passable node is a dead end of the known graph (a maze's corridor
 //! grown by one node), so no way to the goal can pass it.
 
-use super::{DistField, Flow, PlanCell, PlanError, arms_at, neighbour_index, scratch::Queues};
+use super::scratch::{DIST_MASK, Queues, SETTLED_SHIFT};
+use super::{DistField, Flow, PlanCell, PlanError, arms_at, neighbour_index};
 use crate::geometry::Heading;
 use crate::map::{Block, KnownMap};
 use crate::timing::{Ticks, Timing};
@@ -47,6 +48,18 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         if self.bounds != map.bounds() || self.timing != super::searchable(timing) {
             return false;
         }
+        self.carry_over(map, (g, since), None)
+    }
+
+    /// [`DistField::refresh_reverse`] of the search to `g` whose settled
+    /// states hold for revision `since`, leaving out the change at `skip`
+    /// (one [`DistField::rebase_reverse`] has accounted for).
+    fn carry_over<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        (g, since): (usize, u32),
+        skip: Option<usize>,
+    ) -> bool {
         if since == map.revision() {
             return true;
         }
@@ -58,30 +71,47 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         // Check every change before settling anything.
         let mut seeds = [(0usize, Heading::North, 0 as Ticks); 8];
         let mut n = 0usize;
-        for f in changed {
+        for f in changed.filter(|&f| Some(f) != skip) {
             let Some(arms) = arms_at(map, f) else {
                 return false;
             };
             if f == g {
                 return false;
             }
-            let mut onward = arms.iter().filter_map(|a| {
+            let onward = arms.iter().filter_map(|a| {
                 let v = neighbour_index(bounds, f, a)?;
                 (v == g || arms_at(map, v).is_some()).then_some((v, a))
             });
-            let Some((v, a)) = onward.next() else {
-                continue;
+            // Facing `a` on `v`, the search has its way on: the time of
+            // that state, if it is settled and expanded already (its
+            // expansion missed `f`).
+            let expanded = |(v, a): (usize, Heading)| {
+                let h = usize::from(a.index());
+                let d = self.cells.as_ref().get(v).and_then(|c| c.pose_dist(h))?;
+                (pending != Some((v, h))).then_some((a, d))
             };
-            if onward.next().is_some() {
-                return false;
+            let mut ways = 0usize;
+            let mut seed = None;
+            for way in onward {
+                ways += 1;
+                if let Some(s) = expanded(way) {
+                    if seed.is_some() {
+                        return false;
+                    }
+                    seed = Some(s);
+                }
             }
-            // Facing `a` on `v`, the search has its way on.
-            let h = usize::from(a.index());
-            let Some(d) = self.cells.as_ref().get(v).and_then(|c| c.pose_dist(h)) else {
+            // A way through `f` (two ways on) could make settled states
+            // cheaper only if one of its ways on was expanded already;
+            // else the search reaches `f` when it expands them, as if `f`
+            // had always been passable. A loop closed beyond what the
+            // search settled was most of the refusals (maze 64², 16
+            // robots).
+            let Some((a, d)) = seed else {
                 continue;
             };
-            if pending == Some((v, h)) {
-                continue;
+            if ways > 1 {
+                return false;
             }
             match seeds.get_mut(n) {
                 Some(s) => *s = (f, a, d + t.edge),
@@ -103,6 +133,84 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         // Not the search a fresh one would be (see `is_reverse_to`).
         self.reverse = None;
         true
+    }
+
+    /// Carries a stopped (or finished) reverse search to node `u` over to
+    /// node `x`, once `u` is visited, if `x` is a frontier node whose only
+    /// way in is from `u` and `u`'s only way in is from one node `w`: every
+    /// way to `x` then ends w → u → x, so every state's time to `x` is its
+    /// time to `u` plus the same turn on `u` and the same edge, but for
+    /// `u`'s own states. Then brought over to the map as it is now, as
+    /// [`DistField::refresh_reverse`] does; whether the search holds. If
+    /// not, it is spent: search again.
+    ///
+    /// Why: once fewer frontier nodes than robots are left, a visit takes
+    /// a frontier node away and adds the ones beyond it, each of which
+    /// needed a search of its own, back to its cheapest robots (half of
+    /// the fresh reverse searches on maze 64² with 16 robots). A corridor
+    /// grown by one node carries its search on instead, for the price of
+    /// one pass over what it settled.
+    pub fn rebase_reverse<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        x: usize,
+    ) -> bool {
+        let Some((u, since)) = self.rev_open else {
+            return false;
+        };
+        if self.bounds != map.bounds() || self.timing != super::searchable(timing) {
+            return false;
+        }
+        let t = self.timing;
+        let (Some((ux, a)), Some((_, into_u))) = (way_in(map, x), way_in(map, u)) else {
+            return false;
+        };
+        if ux != u || !map.is_frontier_at(x) || arms_at(map, u).is_none() {
+            return false;
+        }
+        let turn = |from: Heading, to: Heading| {
+            t.turn(Timing::quarter_turns_between(from.index(), to.index()))
+        };
+        let c = turn(into_u, a) + t.edge;
+        if self.dirty.reach().saturating_add(c) > super::MAX_DIST
+            || self.queue.pending.is_some_and(|(v, _, _)| v == u)
+        {
+            return false;
+        }
+        // Every settled time grows by `c`; the queues name the settled
+        // states their entries came from, so their keys grow with them.
+        let cells = self.cells.as_mut();
+        self.dirty.for_each_row(|r| {
+            let start = r.start;
+            for (i, cell) in cells.get_mut(r).unwrap_or(&mut []).iter_mut().enumerate() {
+                if let (Some(d), false) = (cell.dist(), start + i == u) {
+                    cell.base = (cell.base & !DIST_MASK) | (d + c);
+                }
+            }
+        });
+        if let Some(p) = self.queue.pending.as_mut() {
+            p.2 += c;
+        }
+        let all = ALL_SETTLED << SETTLED_SHIFT;
+        if let Some(cell) = cells.get_mut(u) {
+            cell.base = all | t.edge;
+            for (o, h) in cell.off.iter_mut().zip(Heading::ALL) {
+                *o = turn(h, a) as u8;
+            }
+        }
+        if let Some(cell) = cells.get_mut(x) {
+            cell.base = all;
+            cell.off = [0; 4];
+        }
+        self.dirty = self.dirty.rebased(x, c);
+        self.rev_open = Some((x, since));
+        self.reverse = None;
+        if self.carry_over(map, (x, since), Some(u)) {
+            true
+        } else {
+            self.refuse()
+        }
     }
 
     /// Goes on with a stopped reverse search over the map it was refreshed
@@ -144,6 +252,28 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         self.rev_open = None;
         self.queue = Queues::default();
         false
+    }
+}
+
+/// All four headings' settled bits.
+const ALL_SETTLED: u32 = 0xF;
+
+/// The one known way into node `i`: the passable neighbour with an arm to
+/// it, and the heading of that arm; `None` with none or several.
+pub fn way_in<M: AsRef<[Block]> + AsMut<[Block]>>(
+    map: &KnownMap<M>,
+    i: usize,
+) -> Option<(usize, Heading)> {
+    let bounds = map.bounds();
+    let mut ways = Heading::ALL.into_iter().filter_map(|b| {
+        let v = neighbour_index(bounds, i, b)?;
+        let h = b.opposite();
+        arms_at(map, v)?.has(h).then_some((v, h))
+    });
+    let one = ways.next();
+    match ways.next() {
+        Some(_) => None,
+        None => one,
     }
 }
 

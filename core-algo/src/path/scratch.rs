@@ -125,6 +125,22 @@ impl Dirty {
         self.reach = self.reach.max(key);
     }
 
+    /// The largest distance settled.
+    pub(super) fn reach(&self) -> Ticks {
+        self.reach
+    }
+
+    /// The box after every settled distance grew by `c` and index `i`
+    /// (one step from the old start) became the start, settled at 0: a
+    /// node `d / edge` steps from the old start lies at most
+    /// `(d + c) / edge` from the new one, as `c` is at least an edge.
+    pub(super) fn rebased(mut self, i: usize, c: Ticks) -> Dirty {
+        self.reach = self.reach.saturating_add(c);
+        self.sx = i % self.width.max(1);
+        self.add(i, 0);
+        self
+    }
+
     /// Calls `f` with the storage range of each row of the box.
     pub(super) fn for_each_row(self, mut f: impl FnMut(core::ops::Range<usize>)) {
         if self.lo >= self.hi || self.width == 0 {

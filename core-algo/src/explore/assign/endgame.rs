@@ -5,7 +5,7 @@ use super::{Candidates, INF};
 use crate::explore::{Context, MAX_ROBOTS};
 use crate::geometry::Heading;
 use crate::map::Block;
-use crate::path::{DistField, Flow, PlanCell, PlanError, arms_at};
+use crate::path::{DistField, Flow, PlanCell, PlanError, arms_at, way_in};
 use crate::timing::Ticks;
 
 impl Candidates {
@@ -249,6 +249,32 @@ impl Candidates {
                 *u = true;
             }
         }
+        // A node beyond a column visited since: the search to that column
+        // carries over (see `DistField::rebase_reverse`).
+        for col in 0..m {
+            let Some(&node) = self.nodes.get(col) else {
+                continue;
+            };
+            if slot.get(col).copied().flatten().is_some() {
+                continue;
+            }
+            let Some((u, _)) = way_in(map, node) else {
+                continue;
+            };
+            let from_u = (0..k).find(|&s| {
+                team(s)
+                    && !used.get(s).copied().unwrap_or(true)
+                    && fields.get(s).and_then(|f| f.reverse_goal()) == Some(u)
+            });
+            let Some(s) = from_u else { continue };
+            let rebased = fields
+                .get_mut(s)
+                .is_some_and(|f| f.rebase_reverse(map, ctx.timing, node));
+            if let (true, Some(sl), Some(used)) = (rebased, slot.get_mut(col), used.get_mut(s)) {
+                *sl = Some((s, true));
+                *used = true;
+            }
+        }
         for col in 0..m {
             if slot.get(col).copied().flatten().is_some() {
                 continue;
@@ -295,6 +321,7 @@ impl Candidates {
                 found,
                 cut: None,
                 proven_at: None,
+                blocker: None,
                 cost: &mut *cost,
             };
             if kept {
@@ -363,6 +390,10 @@ struct Column<'a> {
     cut: Option<i64>,
     /// The last travel at which not every robot was proven.
     proven_at: Option<Ticks>,
+    /// The robot not found yet that could still beat the cut at the last
+    /// check: a robot's cost only grows with the travel, so it mostly
+    /// still can at the next one, and is asked first.
+    blocker: Option<usize>,
     cost: &'a mut dyn FnMut(usize, usize, Ticks) -> Option<i64>,
 }
 
@@ -378,9 +409,13 @@ impl Column<'_> {
             .cut
             .get_or_insert_with(|| c.nth_cheapest(col, self.want));
         let (node, cost) = (self.node, &mut self.cost);
-        !(0..k)
-            .filter(|&j| c.at(j, col) == INF)
-            .any(|j| cost(j, node, at).is_some_and(|x| x < cut))
+        let mut beats =
+            |j: usize| c.at(j, col) == INF && cost(j, node, at).is_some_and(|x| x < cut);
+        if self.blocker.is_some_and(&mut beats) {
+            return false;
+        }
+        self.blocker = (0..k).find(|&j| beats(j));
+        self.blocker.is_none()
     }
 
     /// The search settled state (`v`, `h`) at `key`: finds the robots

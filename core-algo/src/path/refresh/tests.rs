@@ -83,6 +83,94 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(1024))]
+
+    /// A reverse search to a frontier node `u`, stopped anywhere, carried
+    /// over to a node `x` beyond `u` once `u` is visited (and a few more
+    /// nodes), settles every state at the time a fresh search to `x` gives
+    /// it, where it stops again and once it has run to the end. Where it
+    /// refuses, nothing is claimed.
+    #[test]
+    fn a_rebased_reverse_search_agrees_with_a_fresh_one(
+        w in 2u16..10, h in 2u16..10, seed in any::<u64>(), tree in any::<bool>(),
+        known in 1usize..80, more in 0usize..4, pick in any::<usize>(), child in any::<usize>(),
+        first in 0usize..300, second in 0usize..300,
+    ) {
+        let b = Bounds::new(Pos::new(0, 0), w, h);
+        let arms = if tree { tree_arms(b, seed) } else { random_arms(b, seed) };
+        let order = bfs_order(b, &arms);
+        let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).unwrap();
+        for &i in order.iter().take(known) {
+            map.visit(b.pos(i), arms[i], RobotId(0)).unwrap();
+        }
+        let frontier: Vec<Pos> = map.frontier().collect();
+        if frontier.is_empty() {
+            return Ok(());
+        }
+        let u = frontier[pick % frontier.len()];
+        let t = Timing::DEFAULT;
+        let mut kept = field_for(b.area());
+        let mut n = 0;
+        kept.compute_reverse(&map, t, u, |_, _, _| {
+            n += 1;
+            if n > first { Flow::Stop } else { Flow::Continue }
+        }).unwrap();
+        let ui = b.index(u).unwrap();
+        map.visit(u, arms[ui], RobotId(0)).unwrap();
+        for &i in order.iter().skip(known).filter(|&&i| i != ui).take(more) {
+            map.visit(b.pos(i), arms[i], RobotId(0)).unwrap();
+        }
+        let beyond: Vec<usize> = map
+            .frontier()
+            .filter_map(|p| b.index(p))
+            .filter(|&i| way_in(&map, i).is_some_and(|(v, _)| v == ui))
+            .collect();
+        if beyond.is_empty() {
+            return Ok(());
+        }
+        let x = beyond[child % beyond.len()];
+        let mut fresh = field_for(b.area());
+        fresh.compute_reverse(&map, t, b.pos(x), |_, _, _| Flow::Continue).unwrap();
+        let want = states(&fresh, b);
+        let before = kept.reverse_settled_to();
+        if !kept.rebase_reverse(&map, t, x) {
+            // Untouched (still the search to `u`), or spent.
+            prop_assert!(kept.reverse_goal().is_none_or(|g| g == ui));
+            return Ok(());
+        }
+        prop_assert_eq!(kept.reverse_goal(), Some(x));
+        prop_assert!(kept.refresh_reverse(&map, t));
+        let bound = kept.reverse_settled_to().unwrap();
+        // The bound moves on with the times (at least an edge), if the
+        // search had stopped part way.
+        if let Some(b0) = before.filter(|&b0| b0 > 0 && b0 < Ticks::MAX) {
+            prop_assert!(bound >= b0 + t.edge, "bound {} after {}", bound, b0);
+        }
+        for (s, (got, want)) in states(&kept, b).iter().zip(&want).enumerate() {
+            match got {
+                Some(_) => prop_assert_eq!(got, want, "state {} settled wrong", s),
+                None => prop_assert!(want.is_none_or(|x| x >= bound), "state {} below {}", s, bound),
+            }
+        }
+        let mut n = 0;
+        kept.resume_reverse(&map, |_, _, _| {
+            n += 1;
+            if n > second { Flow::Stop } else { Flow::Continue }
+        }).unwrap();
+        for (got, want) in states(&kept, b).iter().zip(&want) {
+            if got.is_some() {
+                prop_assert_eq!(got, want);
+            }
+        }
+        kept.resume_reverse(&map, |_, _, _| Flow::Continue).unwrap();
+        prop_assert_eq!(states(&kept, b), want);
+        // What the rebased search touched, the next search clears.
+        kept.compute_reverse(&map, t, b.pos(x), |_, _, _| Flow::Continue).unwrap();
+        prop_assert_eq!(states(&kept, b), states(&fresh, b));
+    }
+}
+
 /// A corridor grown at its far end keeps the search; a visit that closes
 /// a loop (a new way to the goal) refuses it.
 #[test]
