@@ -6,7 +6,9 @@
 //! and a robot decides again whenever the map grows. Most frontier nodes
 //! outlive a decision, and most visits change none of their searches: the
 //! newly passable node is a dead end of the known graph (a maze's corridor
-//! grown by one node), so no way to the goal can pass it.
+//! grown by one node), so no way to the goal can pass it. And the visit
+//! that takes a frontier node away hands its search on to the node beyond
+//! it ([`DistField::rebase_reverse`]).
 
 use super::scratch::{DIST_MASK, Queues, SETTLED_SHIFT};
 use super::{DistField, Flow, PlanCell, PlanError, arms_at, neighbour_index};
@@ -34,9 +36,12 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// and expanded already (the search would never come back to them);
     /// else the search reaches them as usual. A dead end's states never
     /// make another state cheaper (out and back costs more than a U-turn
-    /// in place), so they need not be expanded. Any other change, a map
-    /// that changed too long ago, a window that moved, or marks written
-    /// into the queue's slots since (see `mark`) refuse.
+    /// in place), so they need not be expanded. A node with two ways on
+    /// or more changes nothing while the search has expanded none of them:
+    /// it reaches the node when it does, as if the node had always been
+    /// passable. Any other change (a loop closed where the search has
+    /// been), a map that changed too long ago, a window that moved, or
+    /// marks written into the queue's slots since (see `mark`) refuse.
     pub fn refresh_reverse<M: AsRef<[Block]> + AsMut<[Block]>>(
         &mut self,
         map: &KnownMap<M>,
