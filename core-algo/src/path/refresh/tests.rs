@@ -18,6 +18,93 @@ fn states(f: &DistField<Vec<PlanCell>>, b: Bounds) -> Vec<Option<Ticks>> {
         .collect()
 }
 
+/// A map of `b` with its first `known` nodes (in BFS order) visited, and
+/// a reverse search to one of its frontier nodes (`pick`) stopped after
+/// `first` states; also the true arms and the visiting order. `None`
+/// without a frontier node.
+#[allow(clippy::type_complexity)]
+fn stopped_search(
+    b: Bounds,
+    (seed, tree): (u64, bool),
+    known: usize,
+    pick: usize,
+    first: usize,
+) -> Option<(
+    Vec<Arms>,
+    Vec<usize>,
+    KnownMap<Vec<Block>>,
+    Pos,
+    DistField<Vec<PlanCell>>,
+)> {
+    let arms = if tree {
+        tree_arms(b, seed)
+    } else {
+        random_arms(b, seed)
+    };
+    let order = bfs_order(b, &arms);
+    let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).unwrap();
+    for &i in order.iter().take(known) {
+        map.visit(b.pos(i), arms[i], RobotId(0)).unwrap();
+    }
+    let frontier: Vec<Pos> = map.frontier().collect();
+    let goal = *frontier.get(pick % frontier.len().max(1))?;
+    let mut kept = field_for(b.area());
+    let mut n = 0;
+    kept.compute_reverse(&map, Timing::DEFAULT, goal, |_, _, _| {
+        n += 1;
+        if n > first {
+            Flow::Stop
+        } else {
+            Flow::Continue
+        }
+    })
+    .unwrap();
+    Some((arms, order, map, goal, kept))
+}
+
+/// `kept`, carried over to `map`, against `want`, a fresh search's states:
+/// what is settled holds already and what is not costs at least the
+/// search's bound; resumed for `second` states and then to the end, it
+/// still holds, and at the end it is the fresh search.
+fn agrees_on(
+    kept: &mut DistField<Vec<PlanCell>>,
+    map: &KnownMap<Vec<Block>>,
+    want: &[Option<Ticks>],
+    second: usize,
+) -> Result<(), TestCaseError> {
+    let b = map.bounds();
+    let bound = kept.reverse_settled_to().unwrap();
+    for (s, (got, want)) in states(kept, b).iter().zip(want).enumerate() {
+        match got {
+            Some(_) => prop_assert_eq!(got, want, "state {} settled wrong", s),
+            None => prop_assert!(
+                want.is_none_or(|x| x >= bound),
+                "state {} below {}",
+                s,
+                bound
+            ),
+        }
+    }
+    let mut n = 0;
+    kept.resume_reverse(map, |_, _, _| {
+        n += 1;
+        if n > second {
+            Flow::Stop
+        } else {
+            Flow::Continue
+        }
+    })
+    .unwrap();
+    for (got, want) in states(kept, b).iter().zip(want) {
+        if got.is_some() {
+            prop_assert_eq!(got, want);
+        }
+    }
+    kept.resume_reverse(map, |_, _, _| Flow::Continue).unwrap();
+    prop_assert_eq!(states(kept, b), want);
+    Ok(())
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(1024))]
 
@@ -32,54 +119,21 @@ proptest! {
         first in 0usize..300, second in 0usize..300,
     ) {
         let b = Bounds::new(Pos::new(0, 0), w, h);
-        let arms = if tree { tree_arms(b, seed) } else { random_arms(b, seed) };
-        let order = bfs_order(b, &arms);
-        let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).unwrap();
-        for &i in order.iter().take(known) {
-            map.visit(b.pos(i), arms[i], RobotId(0)).unwrap();
-        }
-        let frontier: Vec<Pos> = map.frontier().collect();
-        if frontier.is_empty() {
+        let Some((arms, order, mut map, goal, mut kept)) =
+            stopped_search(b, (seed, tree), known, pick, first) else {
             return Ok(());
-        }
-        let goal = frontier[pick % frontier.len()];
+        };
         let t = Timing::DEFAULT;
-        let mut kept = field_for(b.area());
-        let mut n = 0;
-        kept.compute_reverse(&map, t, goal, |_, _, _| {
-            n += 1;
-            if n > first { Flow::Stop } else { Flow::Continue }
-        }).unwrap();
         for &i in order.iter().skip(known).take(more) {
             map.visit(b.pos(i), arms[i], RobotId(0)).unwrap();
         }
         let mut fresh = field_for(b.area());
         fresh.compute_reverse(&map, t, goal, |_, _, _| Flow::Continue).unwrap();
-        let want = states(&fresh, b);
         if !kept.refresh_reverse(&map, t) {
             return Ok(());
         }
         prop_assert!(map.is_frontier_at(b.index(goal).unwrap()));
-        let bound = kept.reverse_settled_to().unwrap();
-        // What is settled holds already; what is not costs at least `bound`.
-        for (s, (got, want)) in states(&kept, b).iter().zip(&want).enumerate() {
-            match got {
-                Some(_) => prop_assert_eq!(got, want, "state {} settled wrong", s),
-                None => prop_assert!(want.is_none_or(|x| x >= bound), "state {} below {}", s, bound),
-            }
-        }
-        let mut n = 0;
-        kept.resume_reverse(&map, |_, _, _| {
-            n += 1;
-            if n > second { Flow::Stop } else { Flow::Continue }
-        }).unwrap();
-        for (got, want) in states(&kept, b).iter().zip(&want) {
-            if got.is_some() {
-                prop_assert_eq!(got, want);
-            }
-        }
-        kept.resume_reverse(&map, |_, _, _| Flow::Continue).unwrap();
-        prop_assert_eq!(states(&kept, b), want);
+        agrees_on(&mut kept, &map, &states(&fresh, b), second)?;
     }
 }
 
@@ -98,24 +152,11 @@ proptest! {
         first in 0usize..300, second in 0usize..300,
     ) {
         let b = Bounds::new(Pos::new(0, 0), w, h);
-        let arms = if tree { tree_arms(b, seed) } else { random_arms(b, seed) };
-        let order = bfs_order(b, &arms);
-        let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).unwrap();
-        for &i in order.iter().take(known) {
-            map.visit(b.pos(i), arms[i], RobotId(0)).unwrap();
-        }
-        let frontier: Vec<Pos> = map.frontier().collect();
-        if frontier.is_empty() {
+        let Some((arms, order, mut map, u, mut kept)) =
+            stopped_search(b, (seed, tree), known, pick, first) else {
             return Ok(());
-        }
-        let u = frontier[pick % frontier.len()];
+        };
         let t = Timing::DEFAULT;
-        let mut kept = field_for(b.area());
-        let mut n = 0;
-        kept.compute_reverse(&map, t, u, |_, _, _| {
-            n += 1;
-            if n > first { Flow::Stop } else { Flow::Continue }
-        }).unwrap();
         let ui = b.index(u).unwrap();
         map.visit(u, arms[ui], RobotId(0)).unwrap();
         for &i in order.iter().skip(known).filter(|&&i| i != ui).take(more) {
@@ -132,7 +173,6 @@ proptest! {
         let x = beyond[child % beyond.len()];
         let mut fresh = field_for(b.area());
         fresh.compute_reverse(&map, t, b.pos(x), |_, _, _| Flow::Continue).unwrap();
-        let want = states(&fresh, b);
         let before = kept.reverse_settled_to();
         if !kept.rebase_reverse(&map, t, x) {
             // Untouched (still the search to `u`), or spent.
@@ -141,30 +181,13 @@ proptest! {
         }
         prop_assert_eq!(kept.reverse_goal(), Some(x));
         prop_assert!(kept.refresh_reverse(&map, t));
-        let bound = kept.reverse_settled_to().unwrap();
         // The bound moves on with the times (at least an edge), if the
         // search had stopped part way.
+        let bound = kept.reverse_settled_to().unwrap();
         if let Some(b0) = before.filter(|&b0| b0 > 0 && b0 < Ticks::MAX) {
             prop_assert!(bound >= b0 + t.edge, "bound {} after {}", bound, b0);
         }
-        for (s, (got, want)) in states(&kept, b).iter().zip(&want).enumerate() {
-            match got {
-                Some(_) => prop_assert_eq!(got, want, "state {} settled wrong", s),
-                None => prop_assert!(want.is_none_or(|x| x >= bound), "state {} below {}", s, bound),
-            }
-        }
-        let mut n = 0;
-        kept.resume_reverse(&map, |_, _, _| {
-            n += 1;
-            if n > second { Flow::Stop } else { Flow::Continue }
-        }).unwrap();
-        for (got, want) in states(&kept, b).iter().zip(&want) {
-            if got.is_some() {
-                prop_assert_eq!(got, want);
-            }
-        }
-        kept.resume_reverse(&map, |_, _, _| Flow::Continue).unwrap();
-        prop_assert_eq!(states(&kept, b), want);
+        agrees_on(&mut kept, &map, &states(&fresh, b), second)?;
         // What the rebased search touched, the next search clears.
         kept.compute_reverse(&map, t, b.pos(x), |_, _, _| Flow::Continue).unwrap();
         prop_assert_eq!(states(&kept, b), states(&fresh, b));
