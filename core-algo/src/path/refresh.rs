@@ -47,13 +47,21 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         map: &KnownMap<M>,
         timing: Timing,
     ) -> bool {
-        let Some((g, since)) = self.rev_open else {
+        let Some(open) = self.open_on(map, timing) else {
             return false;
         };
-        if self.bounds != map.bounds() || self.timing != super::searchable(timing) {
-            return false;
-        }
-        self.carry_over(map, (g, since), None)
+        self.carry_over(map, open, None)
+    }
+
+    /// The open reverse search's goal and the revision its settled states
+    /// hold for, if it ran in `map`'s window with this timing.
+    fn open_on<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        timing: Timing,
+    ) -> Option<(usize, u32)> {
+        let same = self.bounds == map.bounds() && self.timing == super::searchable(timing);
+        self.rev_open.filter(|_| same)
     }
 
     /// [`DistField::refresh_reverse`] of the search to `g` whose settled
@@ -161,12 +169,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         timing: Timing,
         x: usize,
     ) -> bool {
-        let Some((u, since)) = self.rev_open else {
+        let Some((u, since)) = self.open_on(map, timing) else {
             return false;
         };
-        if self.bounds != map.bounds() || self.timing != super::searchable(timing) {
-            return false;
-        }
         let t = self.timing;
         let (Some((ux, a)), Some((_, into_u))) = (way_in(map, x), way_in(map, u)) else {
             return false;

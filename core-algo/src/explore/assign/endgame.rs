@@ -235,44 +235,35 @@ impl Candidates {
             }
         }
         let team = |s: usize| s < k && s != me;
-        // Each column's slot: the one that holds its search, else any other
-        // (every frontier node is a column, so what another slot holds is
-        // dead, or a second copy).
+        // Each column's slot: the one that holds its search, or the search
+        // of the column visited just before it (see
+        // `DistField::rebase_reverse`), else any other (every frontier
+        // node is a column, so what another slot holds is dead, or a
+        // second copy; a visited column's goal is no column).
         let mut slot = [None; MAX_ROBOTS];
         let mut used = [false; MAX_ROBOTS];
         for (col, sl) in slot.iter_mut().enumerate().take(m) {
-            let node = self.nodes.get(col).copied();
-            let held =
-                (0..k).find(|&s| team(s) && fields.get(s).and_then(|f| f.reverse_goal()) == node);
-            if let (Some(s), Some(u)) = (held, held.and_then(|s| used.get_mut(s))) {
-                *sl = Some((s, true));
-                *u = true;
-            }
-        }
-        // A node beyond a column visited since: the search to that column
-        // carries over (see `DistField::rebase_reverse`).
-        for col in 0..m {
             let Some(&node) = self.nodes.get(col) else {
                 continue;
             };
-            if slot.get(col).copied().flatten().is_some() {
-                continue;
-            }
-            let Some((u, _)) = way_in(map, node) else {
-                continue;
+            let holding = |fields: &[DistField<F>], goal: usize| {
+                (0..k).find(|&s| {
+                    team(s)
+                        && !used.get(s).copied().unwrap_or(true)
+                        && fields.get(s).and_then(|f| f.reverse_goal()) == Some(goal)
+                })
             };
-            let from_u = (0..k).find(|&s| {
-                team(s)
-                    && !used.get(s).copied().unwrap_or(true)
-                    && fields.get(s).and_then(|f| f.reverse_goal()) == Some(u)
+            let held = holding(fields, node).or_else(|| {
+                let (u, _) = way_in(map, node)?;
+                let s = holding(fields, u)?;
+                fields
+                    .get_mut(s)
+                    .is_some_and(|f| f.rebase_reverse(map, ctx.timing, node))
+                    .then_some(s)
             });
-            let Some(s) = from_u else { continue };
-            let rebased = fields
-                .get_mut(s)
-                .is_some_and(|f| f.rebase_reverse(map, ctx.timing, node));
-            if let (true, Some(sl), Some(used)) = (rebased, slot.get_mut(col), used.get_mut(s)) {
+            if let (Some(s), Some(u)) = (held, held.and_then(|s| used.get_mut(s))) {
                 *sl = Some((s, true));
-                *used = true;
+                *u = true;
             }
         }
         for col in 0..m {
