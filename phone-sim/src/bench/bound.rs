@@ -37,6 +37,23 @@
 //! cap on |U ∩ {d > t}|; the bound uses the smaller cap. On an open grid it
 //! allows a third of the nodes to be skipped instead of a half.
 //!
+//! The budget also holds beyond each radius t, and is tighter there. Shrink
+//! the nodes with d ≤ t to one root r: every excursion beyond t is then a
+//! closed walk through r, so the visited nodes beyond t, V_t, and r stay
+//! connected by the field edges with an end beyond t (E_t of them), less
+//! the deg(u) edges of each skipped node: Σ_{u∈U_t} (deg(u) − 1) ≤ E_t − N_t.
+//! (E − n + k' is never smaller: the nodes within t form at most k'
+//! components.)
+//!
+//! Bridges count beyond t too. A bridge of the field whose start-free side
+//! lies wholly beyond t (its far end has d > t) is a bridge of the shrunk
+//! field, and the excursions' union is a closed walk there: every such
+//! bridge with a node to visit behind it is driven twice, on top of a tree
+//! spanning V_t and r (|V_t| edges). Each robot that goes beyond t drives t
+//! edges out and t back besides, so with return
+//! E ≥ max_t [2t + ⌈(M_t + B_t) / k⌉], B_t the bridges beyond t. On a maze
+//! this doubles every level of the layered bound, not only t = 0.
+//!
 //! And, because every robot ends where it started, a bridge of the field is
 //! crossed an even number of times by each robot's closed walk. The union of
 //! the walks spans the visited nodes in at most k' components (k' distinct
@@ -292,7 +309,7 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
         / 2;
     let budget = (edges + k_distinct).saturating_sub(n);
     let mut by_degree = [0u64; 5];
-    let fit = |by_degree: &[u64; 5]| -> u64 {
+    let fit = |by_degree: &[u64; 5], budget: u64| -> u64 {
         let mut left = budget;
         let mut count = by_degree[0] + by_degree[1];
         for (d, &c) in by_degree.iter().enumerate().skip(2) {
@@ -307,6 +324,26 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
     for i in truth.indices().filter(|&i| reach(i)) {
         by_dist[dist[i] as usize].push(i);
     }
+    // Edges by their farther end's distance: the local cycle budget
+    // beyond t counts the edges with an end beyond t.
+    let mut edges_at = vec![0u64; ecc + 1];
+    for i in truth.indices().filter(|&i| reach(i)) {
+        for h in [Heading::North, Heading::East] {
+            if let Some(j) = truth.along(i, h).filter(|&j| reach(j)) {
+                edges_at[dist[i].max(dist[j]) as usize] += 1;
+            }
+        }
+    }
+    let mut edges_beyond = 0u64;
+    // Needed bridges by their far end's distance (see the module docs).
+    let (b_needed, b_all, far_ends) = needed_bridges(truth, &dist, &is_start, &candidate);
+    let mut bridges_at = vec![0u64; ecc + 1];
+    for d in far_ends {
+        if let Some(c) = bridges_at.get_mut(d as usize) {
+            *c += 1;
+        }
+    }
+    let mut bridges_beyond = 0u64;
     let mut m = Matching::new(b.area());
     let mut level = Vec::new();
     let (mut beyond, mut cands) = (0u64, 0u64);
@@ -315,6 +352,8 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
     for t in (0..=ecc).rev() {
         if t < ecc {
             level.clear();
+            edges_beyond += edges_at[t + 1];
+            bridges_beyond += bridges_at[t + 1];
             for &i in &by_dist[t + 1] {
                 beyond += 1;
                 if candidate(i) {
@@ -333,18 +372,19 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
             ae = ae.max(t64 + beyond.div_ceil(k));
             ar = ar.max(2 * t64 + 1 + beyond.div_ceil(k));
         }
-        let skip = (cands - m.size as u64).min(fit(&by_degree));
+        let skip =
+            (cands - m.size as u64).min(fit(&by_degree, edges_beyond.saturating_sub(beyond)));
         let must = beyond - skip;
         if must >= 1 {
             se = se.max(t64 + must.div_ceil(k));
             sr = sr.max(2 * t64 + 1 + must.div_ceil(k));
+            sr = sr.max(2 * t64 + (must + bridges_beyond).div_ceil(k));
         }
     }
     // The bridge bound (return only), with and without skipping.
-    let (b_needed, b_all) = needed_bridges(truth, &dist, &is_start, &candidate);
     let alpha = cands - m.size as u64;
     let k_d = k_distinct;
-    let alpha = alpha.min(fit(&by_degree));
+    let alpha = alpha.min(fit(&by_degree, budget));
     sr = sr.max((n.saturating_sub(alpha + k_d) + b_needed).div_ceil(k));
     ar = ar.max((n.saturating_sub(k_d) + b_all).div_ceil(k));
     let diam = sources
@@ -370,16 +410,17 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
 }
 
 /// Bridges whose start-free side must be entered: (under the skipping rule,
-/// with every node must-visit). Iterative Tarjan over the reachable field.
+/// with every node must-visit), and the distance of each needed one's far
+/// end (on the start-free side). Iterative Tarjan over the reachable field.
 fn needed_bridges(
     truth: &Truth,
     dist: &[u32],
     is_start: &[bool],
     candidate: &dyn Fn(usize) -> bool,
-) -> (u64, u64) {
+) -> (u64, u64, Vec<u32>) {
     let area = truth.bounds().area();
     let Some(root) = (0..area).find(|&i| is_start.get(i) == Some(&true)) else {
-        return (0, 0);
+        return (0, 0, Vec::new());
     };
     let reach = |i: usize| dist.get(i).is_some_and(|&d| d != u32::MAX);
     let total_nodes = (0..area)
@@ -396,6 +437,7 @@ fn needed_bridges(
     let mut starts = vec![0u64; area];
     let mut noncand = vec![0u64; area];
     let (mut needed, mut all) = (0u64, 0u64);
+    let mut far_ends = Vec::new();
     let mut time = 0u32;
     // Stack frames: (node, parent, next heading index).
     let mut stack: Vec<(usize, usize, usize)> = vec![(root, usize::MAX, 0)];
@@ -433,23 +475,24 @@ fn needed_bridges(
         if low[v] > disc[parent] {
             // (parent, v) is a bridge; find its start-free side.
             let side = if starts[v] == 0 {
-                Some((size[v], noncand[v]))
+                Some((size[v], noncand[v], v))
             } else if starts[v] == total_starts {
-                Some((total_nodes - size[v], total_noncand - noncand[v]))
+                Some((total_nodes - size[v], total_noncand - noncand[v], parent))
             } else {
                 None
             };
-            if let Some((n, nc)) = side {
+            if let Some((n, nc, far)) = side {
                 if n >= 1 {
                     all += 1;
                 }
                 if n >= 2 || nc >= 1 {
                     needed += 1;
+                    far_ends.push(dist.get(far).copied().unwrap_or(0));
                 }
             }
         }
     }
-    (needed, all)
+    (needed, all, far_ends)
 }
 
 #[cfg(test)]

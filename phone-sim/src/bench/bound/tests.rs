@@ -159,3 +159,169 @@ proptest::proptest! {
         }
     }
 }
+
+/// The least makespan, in edge traversals of the busiest robot, of a team
+/// that knows the field (offline): breadth first over (positions, visited
+/// nodes) in lock step, each robot driving one edge or standing per step.
+/// Complete once every reachable node is visited or has its four lattice
+/// neighbours visited, and (`home`) every robot stands on its start.
+fn exact_makespan(truth: &Truth, starts: &[Pos], home: bool) -> u64 {
+    let b = truth.bounds();
+    let sources: Vec<usize> = starts.iter().map(|&p| b.index(p).unwrap()).collect();
+    let dist = bfs(truth, &sources);
+    let nodes: Vec<usize> = truth.indices().filter(|&i| dist[i] != u32::MAX).collect();
+    let n = nodes.len();
+    assert!(n <= 16, "too many nodes for the exact search");
+    let id = |i: usize| nodes.iter().position(|&v| v == i);
+    let moves: Vec<Vec<usize>> = nodes
+        .iter()
+        .map(|&v| {
+            let mut m = vec![id(v).unwrap()];
+            m.extend(
+                Heading::ALL
+                    .iter()
+                    .filter_map(|&h| truth.along(v, h).and_then(id)),
+            );
+            m
+        })
+        .collect();
+    // The lattice neighbours that make a node known, if all are nodes.
+    let lattice: Vec<Option<u32>> = nodes
+        .iter()
+        .map(|&v| {
+            Heading::ALL.iter().try_fold(0u32, |mask, &h| {
+                let j = neighbour_index(b, v, h)?;
+                Some(mask | 1 << id(j)?)
+            })
+        })
+        .collect();
+    let full = (1u32 << n) - 1;
+    let known =
+        |vis: u32| (0..n).all(|v| vis & 1 << v != 0 || lattice[v].is_some_and(|m| vis & m == m));
+    let k = starts.len();
+    let homes: Vec<usize> = sources.iter().map(|&s| id(s).unwrap()).collect();
+    let encode =
+        |pos: &[usize], vis: u32| pos.iter().fold(0usize, |c, &p| c * n + p) << n | vis as usize;
+    let mut seen = vec![false; n.pow(k as u32) << n];
+    let vis0 = homes.iter().fold(0u32, |m, &h| m | 1 << h);
+    let mut layer = vec![(homes.clone(), vis0)];
+    seen[encode(&homes, vis0)] = true;
+    for steps in 0.. {
+        let mut next = Vec::new();
+        for (pos, vis) in &layer {
+            if known(*vis) && (!home || *pos == homes) {
+                return steps;
+            }
+            // Every combination of one move per robot.
+            let mut choice = vec![0usize; k];
+            loop {
+                let to: Vec<usize> = (0..k).map(|r| moves[pos[r]][choice[r]]).collect();
+                let v = to.iter().fold(*vis, |m, &p| m | 1 << p) & full;
+                let code = encode(&to, v);
+                if !seen[code] {
+                    seen[code] = true;
+                    next.push((to, v));
+                }
+                let Some(r) = (0..k).find(|&r| choice[r] + 1 < moves[pos[r]].len()) else {
+                    break;
+                };
+                choice[r] += 1;
+                choice[..r].fill(0);
+            }
+        }
+        assert!(!next.is_empty(), "the exact search ran out of states");
+        layer = next;
+    }
+    unreachable!()
+}
+
+/// A random field on a `w` × `h` lattice: each node present with
+/// probability 7/8, each lattice edge between present nodes with
+/// probability `edge_pct` %.
+fn random_field(w: i16, h: i16, edge_pct: u64, rnd: &mut impl FnMut() -> u64) -> Truth {
+    let present: Vec<bool> = (0..w * h).map(|_| rnd() % 8 != 0).collect();
+    let mut arms = vec![Arms::NONE; (w * h) as usize];
+    for y in 0..h {
+        for x in 0..w {
+            let i = (y * w + x) as usize;
+            for (dx, dy, a, back) in [
+                (1, 0, Heading::East, Heading::West),
+                (0, 1, Heading::North, Heading::South),
+            ] {
+                let (x2, y2) = (x + dx, y + dy);
+                if x2 >= w || y2 >= h {
+                    continue;
+                }
+                let j = (y2 * w + x2) as usize;
+                if present[i] && present[j] && rnd() % 100 < edge_pct {
+                    arms[i] = arms[i].with(a);
+                    arms[j] = arms[j].with(back);
+                }
+            }
+        }
+    }
+    let nodes = (0..h).flat_map(|y| (0..w).map(move |x| (x, y)));
+    Truth::new(
+        nodes
+            .filter(|&(x, y)| present[(y * w + x) as usize])
+            .map(|(x, y)| (Pos::new(x, y), arms[(y * w + x) as usize]))
+            .collect::<Vec<_>>(),
+    )
+}
+
+/// Both bounds under the skipping rule against the true optimum, found by
+/// exhaustive search on small random fields: never above it, and equal to
+/// it on some (a bound that is valid only by being slack would not be).
+#[test]
+fn bounds_never_exceed_the_exact_optimum() {
+    let mut s = 0x9E37_79B9_7F4A_7C15u64;
+    let mut rnd = move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        s
+    };
+    let (mut cases, mut tight_return, mut tight_explore) = (0, 0, 0);
+    for (w, h, k, runs) in [
+        (3, 3, 1, 60),
+        (3, 3, 2, 60),
+        (3, 3, 3, 20),
+        (4, 3, 2, 40),
+        (4, 4, 1, 60),
+        (5, 3, 1, 40),
+    ] {
+        for _ in 0..runs {
+            let truth = random_field(w, h, 40 + rnd() % 60, &mut rnd);
+            let all: Vec<usize> = truth.indices().collect();
+            if all.is_empty() {
+                continue;
+            }
+            let starts: Vec<Pos> = (0..k)
+                .map(|_| truth.bounds().pos(all[(rnd() % all.len() as u64) as usize]))
+                .collect();
+            let lb = lower_bounds(&truth, &starts, k);
+            let (ret, exp) = (
+                exact_makespan(&truth, &starts, true),
+                exact_makespan(&truth, &starts, false),
+            );
+            assert!(
+                lb.with_return <= ret,
+                "with return {} > {ret}: {w}×{h}, {starts:?}",
+                lb.with_return
+            );
+            assert!(
+                lb.explore <= exp,
+                "explore {} > {exp}: {w}×{h}, {starts:?}",
+                lb.explore
+            );
+            cases += 1;
+            tight_return += usize::from(lb.with_return == ret);
+            tight_explore += usize::from(lb.explore == exp);
+        }
+    }
+    eprintln!("{cases} cases, {tight_return} tight with return, {tight_explore} explore only");
+    assert!(
+        cases >= 250 && tight_return >= cases / 4 && tight_explore >= cases / 4,
+        "{cases} cases, {tight_return} tight with return, {tight_explore} explore only"
+    );
+}
