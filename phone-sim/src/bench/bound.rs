@@ -54,6 +54,17 @@
 //! E ≥ max_t [2t + ⌈(M_t + B_t) / k⌉], B_t the bridges beyond t. On a maze
 //! this doubles every level of the layered bound, not only t = 0.
 //!
+//! In these closed-walk bounds a skip can cost a drive as well. If a
+//! skipped node u has a neighbour v beyond t (no nearer the starts than u,
+//! so never shrunk into the root) with one other edge e', then v is a dead
+//! end of the visited nodes: the walks drive e' twice. e' is no bridge of
+//! the field (v's two edges lie on a cycle unless u's is a bridge too, and
+//! then u cannot be skipped or is a lone leaf, which this rule leaves out
+//! by asking e' not to be a bridge), so it is not among B_t, and no other
+//! skipped node charges it (that would cut v and e's far end off). Such a
+//! skip saves nothing, so these bounds skip only the other candidates,
+//! called *free* (M_t counted over them).
+//!
 //! And, because every robot ends where it started, a bridge of the field is
 //! crossed an even number of times by each robot's closed walk. The union of
 //! the walks spans the visited nodes in at most k' components (k' distinct
@@ -336,7 +347,29 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
     }
     let mut edges_beyond = 0u64;
     // Needed bridges by their far end's distance (see the module docs).
-    let (b_needed, b_all, far_ends) = needed_bridges(truth, &dist, &is_start, &candidate);
+    let (b_needed, b_all, far_ends, bridge_arms) =
+        needed_bridges(truth, &dist, &is_start, &candidate);
+    // A candidate is *free* to skip for a closed walk unless a neighbour v
+    // (no nearer the starts) has one other edge, not a bridge: skipping it
+    // leaves v a dead end, whose edge the walk then drives twice (see the
+    // module docs).
+    let free = |u: usize| {
+        !Heading::ALL.iter().any(|&h| {
+            truth.along(u, h).is_some_and(|v| {
+                dist[v] >= dist[u]
+                    && degree(v) == 2
+                    && Heading::ALL.iter().any(|&h2| {
+                        h2 != h.opposite()
+                            && truth.along(v, h2).is_some()
+                            && bridge_arms[v] & 1 << h2.index() == 0
+                    })
+            })
+        })
+    };
+    let mut free_by_degree = [0u64; 5];
+    let mut free_cands = 0u64;
+    let mut mf = Matching::new(b.area());
+    let mut free_level = Vec::new();
     let mut bridges_at = vec![0u64; ecc + 1];
     for d in far_ends {
         if let Some(c) = bridges_at.get_mut(d as usize) {
@@ -352,6 +385,7 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
     for t in (0..=ecc).rev() {
         if t < ecc {
             level.clear();
+            free_level.clear();
             edges_beyond += edges_at[t + 1];
             bridges_beyond += bridges_at[t + 1];
             for &i in &by_dist[t + 1] {
@@ -360,11 +394,20 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
                     cands += 1;
                     by_degree[degree(i).min(4)] += 1;
                     level.push(i);
+                    if free(i) {
+                        free_cands += 1;
+                        free_by_degree[degree(i).min(4)] += 1;
+                        free_level.push(i);
+                    }
                 }
             }
             m.add_level(truth, &level);
             if t == 0 || m.due() {
                 m.settle(truth);
+            }
+            mf.add_level(truth, &free_level);
+            if t == 0 || mf.due() {
+                mf.settle(truth);
             }
         }
         let t64 = t as u64;
@@ -372,19 +415,23 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
             ae = ae.max(t64 + beyond.div_ceil(k));
             ar = ar.max(2 * t64 + 1 + beyond.div_ceil(k));
         }
-        let skip =
-            (cands - m.size as u64).min(fit(&by_degree, edges_beyond.saturating_sub(beyond)));
+        let local = edges_beyond.saturating_sub(beyond);
+        let skip = (cands - m.size as u64).min(fit(&by_degree, local));
         let must = beyond - skip;
         if must >= 1 {
             se = se.max(t64 + must.div_ceil(k));
             sr = sr.max(2 * t64 + 1 + must.div_ceil(k));
-            sr = sr.max(2 * t64 + (must + bridges_beyond).div_ceil(k));
+        }
+        let skip_free = (free_cands - mf.size as u64).min(fit(&free_by_degree, local));
+        let visit = beyond - skip_free;
+        if visit >= 1 {
+            sr = sr.max(2 * t64 + (visit + bridges_beyond).div_ceil(k));
         }
     }
     // The bridge bound (return only), with and without skipping.
-    let alpha = cands - m.size as u64;
+    let alpha = free_cands - mf.size as u64;
     let k_d = k_distinct;
-    let alpha = alpha.min(fit(&by_degree, budget));
+    let alpha = alpha.min(fit(&free_by_degree, budget));
     sr = sr.max((n.saturating_sub(alpha + k_d) + b_needed).div_ceil(k));
     ar = ar.max((n.saturating_sub(k_d) + b_all).div_ceil(k));
     let diam = sources
@@ -417,10 +464,10 @@ fn needed_bridges(
     dist: &[u32],
     is_start: &[bool],
     candidate: &dyn Fn(usize) -> bool,
-) -> (u64, u64, Vec<u32>) {
+) -> (u64, u64, Vec<u32>, Vec<u8>) {
     let area = truth.bounds().area();
     let Some(root) = (0..area).find(|&i| is_start.get(i) == Some(&true)) else {
-        return (0, 0, Vec::new());
+        return (0, 0, Vec::new(), vec![0; area]);
     };
     let reach = |i: usize| dist.get(i).is_some_and(|&d| d != u32::MAX);
     let total_nodes = (0..area)
@@ -438,6 +485,7 @@ fn needed_bridges(
     let mut noncand = vec![0u64; area];
     let (mut needed, mut all) = (0u64, 0u64);
     let mut far_ends = Vec::new();
+    let mut bridge_arms = vec![0u8; area];
     let mut time = 0u32;
     // Stack frames: (node, parent, next heading index).
     let mut stack: Vec<(usize, usize, usize)> = vec![(root, usize::MAX, 0)];
@@ -474,6 +522,12 @@ fn needed_bridges(
         noncand[parent] += noncand[v];
         if low[v] > disc[parent] {
             // (parent, v) is a bridge; find its start-free side.
+            for h in Heading::ALL {
+                if truth.along(parent, h) == Some(v) {
+                    bridge_arms[parent] |= 1 << h.index();
+                    bridge_arms[v] |= 1 << h.opposite().index();
+                }
+            }
             let side = if starts[v] == 0 {
                 Some((size[v], noncand[v], v))
             } else if starts[v] == total_starts {
@@ -492,7 +546,7 @@ fn needed_bridges(
             }
         }
     }
-    (needed, all, far_ends)
+    (needed, all, far_ends, bridge_arms)
 }
 
 #[cfg(test)]
