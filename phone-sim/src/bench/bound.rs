@@ -54,16 +54,16 @@
 //! E ≥ max_t [2t + ⌈(M_t + B_t) / k⌉], B_t the bridges beyond t. On a maze
 //! this doubles every level of the layered bound, not only t = 0.
 //!
-//! In these closed-walk bounds a skip can cost a drive as well. If a
+//! In these closed-walk bounds a skip can cost a drive as well. Say a
 //! skipped node u has a neighbour v beyond t (no nearer the starts than u,
-//! so never shrunk into the root) with one other edge e', then v is a dead
-//! end of the visited nodes: the walks drive e' twice. e' is no bridge of
-//! the field (v's two edges lie on a cycle unless u's is a bridge too, and
-//! then u cannot be skipped or is a lone leaf, which this rule leaves out
-//! by asking e' not to be a bridge), so it is not among B_t, and no other
-//! skipped node charges it (that would cut v and e's far end off). Such a
+//! so never shrunk into the root) whose only other edge e′ is no bridge.
+//! Then v is a dead end of the visited nodes, and the walks drive e′ twice.
+//! Because e′ is no bridge it is not among B_t. No other skipped node can
+//! charge e′ too: that would leave v and e′'s other end, both beyond t,
+//! cut off from the root. (Asking e′ not to be a bridge leaves out a lone
+//! leaf u on a corridor v, where the bridge is counted already.) Such a
 //! skip saves nothing, so these bounds skip only the other candidates,
-//! called *free* (M_t counted over them).
+//! called *free*: M_t is counted over them.
 //!
 //! And, because every robot ends where it started, a bridge of the field is
 //! crossed an even number of times by each robot's closed walk. The union of
@@ -467,7 +467,7 @@ fn needed_bridges(
 ) -> (u64, u64, Vec<u32>, Vec<u8>) {
     let area = truth.bounds().area();
     let Some(root) = (0..area).find(|&i| is_start.get(i) == Some(&true)) else {
-        return (0, 0, Vec::new(), vec![0; area]);
+        return (0, 0, Vec::new(), vec![0b1111; area]);
     };
     let reach = |i: usize| dist.get(i).is_some_and(|&d| d != u32::MAX);
     let total_nodes = (0..area)
@@ -544,6 +544,13 @@ fn needed_bridges(
                     far_ends.push(dist.get(far).copied().unwrap_or(0));
                 }
             }
+        }
+    }
+    // Outside the searched component nothing is known: call every arm
+    // there a bridge, which makes no skip costly.
+    for (arms, &d) in bridge_arms.iter_mut().zip(&disc) {
+        if d == u32::MAX {
+            *arms = 0b1111;
         }
     }
     (needed, all, far_ends, bridge_arms)
