@@ -368,8 +368,13 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
     };
     let mut free_by_degree = [0u64; 5];
     let mut free_cands = 0u64;
+    // While every candidate so far is free (on a tree, all are), the free
+    // candidates' matching is `m` itself: `mf` is only built, from
+    // `free_seen`, once one is not (it doubled a 1024² maze's bound time).
     let mut mf = Matching::new(b.area());
     let mut free_level = Vec::new();
+    let mut free_seen = Vec::new();
+    let mut mirror = true;
     let mut bridges_at = vec![0u64; ecc + 1];
     for d in far_ends {
         if let Some(c) = bridges_at.get_mut(d as usize) {
@@ -405,9 +410,19 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
             if t == 0 || m.due() {
                 m.settle(truth);
             }
-            mf.add_level(truth, &free_level);
-            if t == 0 || mf.due() {
-                mf.settle(truth);
+            if mirror {
+                free_seen.extend_from_slice(&free_level);
+                if free_cands < cands {
+                    mirror = false;
+                    mf.add_level(truth, &free_seen);
+                    mf.settle(truth);
+                    free_seen = Vec::new();
+                }
+            } else {
+                mf.add_level(truth, &free_level);
+                if t == 0 || mf.due() {
+                    mf.settle(truth);
+                }
             }
         }
         let t64 = t as u64;
@@ -422,14 +437,23 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
             se = se.max(t64 + must.div_ceil(k));
             sr = sr.max(2 * t64 + 1 + must.div_ceil(k));
         }
-        let skip_free = (free_cands - mf.size as u64).min(fit(&free_by_degree, local));
+        let free_alpha = if mirror {
+            cands - m.size as u64
+        } else {
+            free_cands - mf.size as u64
+        };
+        let skip_free = free_alpha.min(fit(&free_by_degree, local));
         let visit = beyond - skip_free;
         if visit >= 1 {
             sr = sr.max(2 * t64 + (visit + bridges_beyond).div_ceil(k));
         }
     }
     // The bridge bound (return only), with and without skipping.
-    let alpha = free_cands - mf.size as u64;
+    let alpha = if mirror {
+        cands - m.size as u64
+    } else {
+        free_cands - mf.size as u64
+    };
     let k_d = k_distinct;
     let alpha = alpha.min(fit(&free_by_degree, budget));
     sr = sr.max((n.saturating_sub(alpha + k_d) + b_needed).div_ceil(k));
