@@ -312,13 +312,17 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
         d.len() as u64
     };
     let degree = |i: usize| truth.arms_at(i).map_or(0, |a| a.count()) as usize;
-    let edges: u64 = truth
-        .indices()
-        .filter(|&i| reach(i))
-        .map(|i| degree(i) as u64)
-        .sum::<u64>()
-        / 2;
-    let budget = (edges + k_distinct).saturating_sub(n);
+    // Edges by their farther end's distance: the local cycle budget
+    // beyond t counts the edges with an end beyond t, the global one all.
+    let mut edges_at = vec![0u64; ecc + 1];
+    for i in truth.indices().filter(|&i| reach(i)) {
+        for h in [Heading::North, Heading::East] {
+            if let Some(j) = truth.along(i, h).filter(|&j| reach(j)) {
+                edges_at[dist[i].max(dist[j]) as usize] += 1;
+            }
+        }
+    }
+    let budget = (edges_at.iter().sum::<u64>() + k_distinct).saturating_sub(n);
     let mut by_degree = [0u64; 5];
     let fit = |by_degree: &[u64; 5], budget: u64| -> u64 {
         let mut left = budget;
@@ -334,16 +338,6 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
     let mut by_dist: Vec<Vec<usize>> = vec![Vec::new(); ecc + 1];
     for i in truth.indices().filter(|&i| reach(i)) {
         by_dist[dist[i] as usize].push(i);
-    }
-    // Edges by their farther end's distance: the local cycle budget
-    // beyond t counts the edges with an end beyond t.
-    let mut edges_at = vec![0u64; ecc + 1];
-    for i in truth.indices().filter(|&i| reach(i)) {
-        for h in [Heading::North, Heading::East] {
-            if let Some(j) = truth.along(i, h).filter(|&j| reach(j)) {
-                edges_at[dist[i].max(dist[j]) as usize] += 1;
-            }
-        }
     }
     let mut edges_beyond = 0u64;
     // Needed bridges by their far end's distance (see the module docs).
@@ -386,6 +380,8 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
     let mut level = Vec::new();
     let (mut beyond, mut cands) = (0u64, 0u64);
     let (mut ae, mut ar, mut se, mut sr) = (0u64, 0u64, 0u64, 0u64);
+    // α of the free candidates beyond t (at the end: of all of them).
+    let mut alpha_free = 0u64;
     // t runs from ecc down to 0; `beyond` counts nodes with d > t.
     for t in (0..=ecc).rev() {
         if t < ecc {
@@ -437,25 +433,20 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
             se = se.max(t64 + must.div_ceil(k));
             sr = sr.max(2 * t64 + 1 + must.div_ceil(k));
         }
-        let free_alpha = if mirror {
+        alpha_free = if mirror {
             cands - m.size as u64
         } else {
             free_cands - mf.size as u64
         };
-        let skip_free = free_alpha.min(fit(&free_by_degree, local));
+        let skip_free = alpha_free.min(fit(&free_by_degree, local));
         let visit = beyond - skip_free;
         if visit >= 1 {
             sr = sr.max(2 * t64 + (visit + bridges_beyond).div_ceil(k));
         }
     }
     // The bridge bound (return only), with and without skipping.
-    let alpha = if mirror {
-        cands - m.size as u64
-    } else {
-        free_cands - mf.size as u64
-    };
     let k_d = k_distinct;
-    let alpha = alpha.min(fit(&free_by_degree, budget));
+    let alpha = alpha_free.min(fit(&free_by_degree, budget));
     sr = sr.max((n.saturating_sub(alpha + k_d) + b_needed).div_ceil(k));
     ar = ar.max((n.saturating_sub(k_d) + b_all).div_ceil(k));
     let diam = sources

@@ -49,17 +49,22 @@ fn stopped_search(
     let frontier: Vec<Pos> = map.frontier().collect();
     let goal = *frontier.get(pick % frontier.len().max(1))?;
     let mut kept = field_for(b.area());
+    kept.compute_reverse(&map, Timing::DEFAULT, goal, stop_after(first))
+        .unwrap();
+    Some((arms, order, map, goal, kept))
+}
+
+/// A search callback that lets `limit` states settle, then stops.
+fn stop_after(limit: usize) -> impl FnMut(usize, Heading, Ticks) -> Flow {
     let mut n = 0;
-    kept.compute_reverse(&map, Timing::DEFAULT, goal, |_, _, _| {
+    move |_, _, _| {
         n += 1;
-        if n > first {
+        if n > limit {
             Flow::Stop
         } else {
             Flow::Continue
         }
-    })
-    .unwrap();
-    Some((arms, order, map, goal, kept))
+    }
 }
 
 /// `kept`, carried over to `map`, against `want`, a fresh search's states:
@@ -85,16 +90,7 @@ fn agrees_on(
             ),
         }
     }
-    let mut n = 0;
-    kept.resume_reverse(map, |_, _, _| {
-        n += 1;
-        if n > second {
-            Flow::Stop
-        } else {
-            Flow::Continue
-        }
-    })
-    .unwrap();
+    kept.resume_reverse(map, stop_after(second)).unwrap();
     for (got, want) in states(kept, b).iter().zip(want) {
         if got.is_some() {
             prop_assert_eq!(got, want);
