@@ -136,6 +136,9 @@ pub struct Agent<M, F, S, const K: usize> {
     rejects: u8,
     escaping: bool,
     yielding: bool,
+    /// The team mate we last stepped aside for (see `on_bumped`), while
+    /// the yield wait lasts.
+    made_way_for: Option<usize>,
     gated_since: Option<Millis>,
     /// Since when (and at which map revision) the strategy has told us to
     /// wait for work: see `decide`.
@@ -190,6 +193,7 @@ where
             rejects: 0,
             escaping: false,
             yielding: false,
+            made_way_for: None,
             gated_since: None,
             idle_since: None,
             gated_progress: 0,
@@ -561,11 +565,12 @@ where
         let manual = self.mode == Mode::Manual;
         // Yielded: come back early once everyone is in, but not while a
         // team mate standing at home is on its way to a retreat spot (it
-        // may be the one we made way for, pushing through).
+        // may be the one we made way for, pushing through); or once the
+        // one we made way for holds its retreat spot, waiting for us.
         if self.yielding
             && matches!(self.motion, Motion::Waiting { .. })
-            && self.peers_home()
-            && (0..self.peers.len()).all(|i| !self.retreating_peer(i))
+            && (self.peers_home() && (0..self.peers.len()).all(|i| !self.retreating_peer(i))
+                || self.made_way_for_a_holding_retreat())
         {
             self.motion = Motion::Waiting { until: now };
         }
@@ -573,6 +578,7 @@ where
             Motion::Waiting { until } if now.wrapping_sub(until) < u32::MAX / 2 => {
                 self.motion = Motion::Standing;
                 self.yielding = false;
+                self.made_way_for = None;
                 if !manual {
                     self.decide(out);
                 }

@@ -219,3 +219,63 @@ fn no_push_without_room_for_the_bumper_to_step_aside() {
     let goal = a.map.bounds().index(Pos::new(0, 0)).unwrap();
     assert_eq!(a.retreat_spot(goal, Pos::new(0, 1)), None);
 }
+
+/// A robot whose home fills first stepped aside for a team mate that
+/// retreats (for it): it waits only until that team mate holds its
+/// spot, not for the whole yield wait, provided every home that fills
+/// before ours is taken and no other retreat is still on its way. On
+/// test.sim with 4 robots it stood out the whole wait while everyone
+/// waited for it (docs/results/system.md, stop 33).
+#[test]
+fn a_yield_to_a_retreat_ends_once_it_holds_its_spot() {
+    // Robot 1 (home (0, 1), filling first) stepped aside to (0, 3);
+    // robot 0 retreats to (0, 6), robot 2 stands at home (1, 2).
+    let setup = || {
+        let mut a = corridor_home(8);
+        a.pos = Pos::new(0, 3);
+        a.depth[..3].copy_from_slice(&[2, 3, 1]);
+        a.depth_known = true;
+        a.peers[0] = Peer {
+            target: Some(Pos::new(0, 6)),
+            ..mate(Pos::new(0, 5), Pos::new(0, 0))
+        };
+        a.peers[2] = mate(Pos::new(1, 2), Pos::new(1, 2));
+        a.yielding = true;
+        a.made_way_for = Some(0);
+        a.motion = Motion::Waiting { until: 20_000 };
+        a
+    };
+    // Still in the yield wait (a decision may wait for other reasons).
+    let waits = |a: &mut ThreeFields, now: Millis| {
+        a.handle(now, Event::Tick).unwrap();
+        a.yielding
+    };
+    // On its way to the spot: wait.
+    let mut a = setup();
+    assert!(waits(&mut a, 100));
+    // Holding it: come back now, not at 20 s.
+    a.peers[0].pos = Pos::new(0, 6);
+    assert!(!waits(&mut a, 200));
+    assert_eq!(a.made_way_for, None);
+    // Not while a team mate whose home fills first is out...
+    let mut a = setup();
+    a.peers[0].pos = Pos::new(0, 6);
+    a.depth[2] = 4;
+    a.peers[2].pos = Pos::new(0, 7);
+    assert!(waits(&mut a, 100));
+    // ...nor while another retreat is still on its way...
+    let mut a = setup();
+    a.peers[0].pos = Pos::new(0, 6);
+    a.peers[2].target = Some(Pos::new(0, 7));
+    assert!(waits(&mut a, 100));
+    // ...nor for a team mate we did not step aside for.
+    let mut a = setup();
+    a.peers[0].pos = Pos::new(0, 6);
+    a.made_way_for = Some(2);
+    assert!(waits(&mut a, 100));
+    // Nor before the fill order is known (nobody seems to go first then).
+    let mut a = setup();
+    a.peers[0].pos = Pos::new(0, 6);
+    a.depth_known = false;
+    assert!(waits(&mut a, 100));
+}
