@@ -224,20 +224,22 @@ fn no_push_without_room_for_the_bumper_to_step_aside() {
 /// retreats (for it): it waits only until that team mate holds its
 /// spot, not for the whole yield wait, provided every home that fills
 /// before ours is taken and no other retreat is still on its way. On
-/// test.sim with 4 robots it stood out the whole wait while everyone
-/// waited for it (docs/results/system.md, stop 33).
+/// test.sim with 4 and 5 robots it stood out the whole wait while
+/// everyone waited for it (docs/results/system.md, stop 33).
 #[test]
 fn a_yield_to_a_retreat_ends_once_it_holds_its_spot() {
-    // Robot 1 (home (0, 1), filling first) stepped aside to (0, 3);
-    // robot 0 retreats to (0, 6), robot 2 stands at home (1, 2).
+    // Robot 1 (home (0, 0), the dead end: it fills first) stepped aside
+    // to (0, 3); robot 0 (home (0, 1)) retreats to (0, 6), robot 2
+    // stands at home (1, 2).
     let setup = || {
         let mut a = corridor_home(8);
         a.pos = Pos::new(0, 3);
+        a.home = Pos::new(0, 0);
         a.depth[..3].copy_from_slice(&[2, 3, 1]);
         a.depth_known = true;
         a.peers[0] = Peer {
             target: Some(Pos::new(0, 6)),
-            ..mate(Pos::new(0, 5), Pos::new(0, 0))
+            ..mate(Pos::new(0, 5), Pos::new(0, 1))
         };
         a.peers[2] = mate(Pos::new(1, 2), Pos::new(1, 2));
         a.yielding = true;
@@ -273,9 +275,12 @@ fn a_yield_to_a_retreat_ends_once_it_holds_its_spot() {
     a.peers[0].pos = Pos::new(0, 6);
     a.made_way_for = Some(2);
     assert!(waits(&mut a, 100));
-    // Nor before the fill order is known (nobody seems to go first then).
+    // Made way before deciding once on the complete map: the fill order
+    // is learned while waiting (the dead end fills first).
     let mut a = setup();
     a.peers[0].pos = Pos::new(0, 6);
+    a.depth = [0; MAX_ROBOTS];
     a.depth_known = false;
-    assert!(waits(&mut a, 100));
+    assert!(!waits(&mut a, 100));
+    assert!(a.depth_known && !a.goes_first(0), "{:?}", a.depth);
 }
