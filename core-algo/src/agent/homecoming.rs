@@ -132,9 +132,9 @@ where
     /// team mate retreating *for it* and stood out the whole wait while
     /// everyone waited for it: test.sim with 4 and 5 robots took 47.4 and
     /// 53.9 s, 37.2 and 33.1 s with this rule (docs/results/system.md,
-    /// stops 32 and 33). Ending
-    /// the wait as soon as the earlier homes are in, before the bumper
-    /// holds, sent robots back into bumpers still shut in behind them.
+    /// stops 32 and 33). Ending the wait as soon as the earlier homes are
+    /// in, before the bumper holds, sent robots back into bumpers still
+    /// shut in behind them.
     pub(super) fn made_way_for_a_holding_retreat(&mut self) -> bool {
         let holds = |q: &Peer| q.target == Some(q.pos);
         let bumper_holds = self

@@ -276,11 +276,21 @@ fn a_yield_to_a_retreat_ends_once_it_holds_its_spot() {
     a.made_way_for = Some(2);
     assert!(waits(&mut a, 100));
     // Made way before deciding once on the complete map: the fill order
-    // is learned while waiting (the dead end fills first).
-    let mut a = setup();
-    a.peers[0].pos = Pos::new(0, 6);
-    a.depth = [0; MAX_ROBOTS];
-    a.depth_known = false;
+    // is worked out for the question (the dead end fills first; the
+    // decision that follows learns it for good)...
+    let unknown_order = || {
+        let mut a = setup();
+        a.peers[0].pos = Pos::new(0, 6);
+        a.depth = [0; MAX_ROBOTS];
+        a.depth_known = false;
+        a
+    };
+    let mut a = unknown_order();
     assert!(!waits(&mut a, 100));
     assert!(a.depth_known && !a.goes_first(0), "{:?}", a.depth);
+    // ...but not kept by it: the robot goes on making way as before.
+    let mut a = unknown_order();
+    a.peers[2].target = Some(Pos::new(0, 7));
+    assert!(waits(&mut a, 100));
+    assert!(!a.depth_known);
 }
