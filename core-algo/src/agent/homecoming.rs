@@ -148,11 +148,7 @@ where
         // for this question only. Kept, it changed how the robot made way
         // next, and in one hunt case (claim, seed 3387) robots that had
         // come home fine danced in a corridor until the time limit.
-        let depth = if self.depth_known {
-            self.depth
-        } else {
-            self.fill_ranks()
-        };
+        let depth = self.fill_ranks_once();
         (0..self.peers.len()).all(|i| {
             let q = self.peers.get(i).copied().unwrap_or(NO_PEER);
             let in_or_gone = !q.known || q.failed || q.pos == q.home;
@@ -196,7 +192,19 @@ where
             return;
         }
         self.depth_known = true;
-        self.depth = self.fill_ranks();
+        self.fill_ranks_once();
+    }
+
+    /// The fill ranks in `depth`, computed the first time they are asked
+    /// for (on the complete map, which no longer changes): a yield wait
+    /// asks at every tick, and each computation searches the map once per
+    /// home.
+    fn fill_ranks_once(&mut self) -> [u64; MAX_ROBOTS] {
+        if !self.depth_ready {
+            self.depth = self.fill_ranks();
+            self.depth_ready = true;
+        }
+        self.depth
     }
 
     /// The fill ranks of every robot's home on the complete map (see

@@ -149,6 +149,9 @@ pub struct Agent<M, F, S, const K: usize> {
     /// Fill rank of every robot's home: the larger fills first (see
     /// `fill_order`), computed once the map is complete.
     depth: [u64; MAX_ROBOTS],
+    /// `depth` is computed; whether the agent acts on it yet is
+    /// `depth_known` (see `made_way_for_a_holding_retreat`).
+    depth_ready: bool,
     depth_known: bool,
     /// Making way for a team mate whose home fills first: where to, whom
     /// for, since when (see `on_bumped`).
@@ -198,6 +201,7 @@ where
             idle_since: None,
             gated_progress: 0,
             depth: [0; MAX_ROBOTS],
+            depth_ready: false,
             depth_known: false,
             retreat: None,
             finished_sent: false,

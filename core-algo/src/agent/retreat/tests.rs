@@ -236,6 +236,7 @@ fn a_yield_to_a_retreat_ends_once_it_holds_its_spot() {
         a.pos = Pos::new(0, 3);
         a.home = Pos::new(0, 0);
         a.depth[..3].copy_from_slice(&[2, 3, 1]);
+        a.depth_ready = true;
         a.depth_known = true;
         a.peers[0] = Peer {
             target: Some(Pos::new(0, 6)),
@@ -282,6 +283,7 @@ fn a_yield_to_a_retreat_ends_once_it_holds_its_spot() {
         let mut a = setup();
         a.peers[0].pos = Pos::new(0, 6);
         a.depth = [0; MAX_ROBOTS];
+        a.depth_ready = false;
         a.depth_known = false;
         a
     };
