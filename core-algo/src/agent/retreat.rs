@@ -294,6 +294,23 @@ where
         }) || self.now.wrapping_sub(r.since) > patience
             || !self.map.is_complete()
             || self.may_follow() && self.bumper_clear(r);
+        // A team mate that holds our spot (its own retreat ends there) will
+        // not leave it for us: look for another spot, or give up.
+        let me = self.id.index();
+        let held = r.spot != self.pos
+            && self.peers.iter().enumerate().any(|(i, q)| {
+                i != me && q.known && !q.failed && q.pos == r.spot && q.target == Some(r.spot)
+            });
+        if !over && held {
+            self.retreat = None;
+            if !self.plan_retreat(r.bumper, r.chained) {
+                return None;
+            }
+            let mut again = self.retreat?;
+            again.since = r.since;
+            self.retreat = Some(again);
+            r = again;
+        }
         let bounds = self.map.bounds();
         let spot = bounds.index(r.spot);
         let (pos, heading, map) = (self.pos, self.heading, &self.map);

@@ -296,3 +296,33 @@ fn a_yield_to_a_retreat_ends_once_it_holds_its_spot() {
     assert!(waits(&mut a, 100));
     assert!(!a.depth_known);
 }
+
+/// A retreat spot that a team mate holds (its own retreat ends there) is
+/// no spot: it will not leave for us. The retreat looks for another one,
+/// or ends; a team mate that only passes the spot does not count. On maze
+/// 64² with 16 robots (claim), two robots stood retreating into each
+/// other's spot (docs/results/system.md, stop 34).
+#[test]
+fn a_retreat_spot_a_team_mate_holds_is_given_up() {
+    let mut a = swapped(&[]);
+    assert!(a.plan_retreat(0, false));
+    let spot = Pos::new(0, 3);
+    assert_eq!(a.retreat.map(|r| r.spot), Some(spot));
+    // Passing through (no announced spot there): the spot stays.
+    a.peers[2] = mate(spot, Pos::new(1, 2));
+    assert!(a.retreat_decision().is_some());
+    assert_eq!(a.retreat.map(|r| r.spot), Some(spot));
+    // Announced but elsewhere: the spot stays.
+    a.peers[2].target = Some(Pos::new(1, 2));
+    assert!(a.retreat_decision().is_some());
+    assert_eq!(a.retreat.map(|r| r.spot), Some(spot));
+    // Holding there: another spot, off the bumper's way, or none.
+    a.peers[2].target = Some(spot);
+    let d = a.retreat_decision();
+    assert_ne!(a.retreat.map(|r| r.spot), Some(spot));
+    assert_eq!(d.is_some(), a.retreat.is_some());
+    if let Some(r) = a.retreat {
+        assert_ne!(r.spot, Pos::new(0, 0));
+        assert_ne!(r.spot, Pos::new(0, 1));
+    }
+}
