@@ -300,8 +300,8 @@ fn a_yield_to_a_retreat_ends_once_it_holds_its_spot() {
 /// A retreat spot that a team mate holds (its own retreat ends there) is
 /// no spot: it will not leave for us. The retreat looks for another one,
 /// or ends; a team mate that only passes the spot does not count. On maze
-/// 64² with 16 robots (claim), two robots stood retreating into each
-/// other's spot (docs/results/system.md, stop 34).
+/// 64² with 16 robots (claim), a robot kept retreating into the spot a
+/// team mate held for it (docs/results/system.md, stop 34).
 #[test]
 fn a_retreat_spot_a_team_mate_holds_is_given_up() {
     let mut a = swapped(&[]);
