@@ -485,3 +485,49 @@ proptest! {
         }
     }
 }
+
+/// The crowd penalty: a frontier node at a team mate's announced target
+/// costs `crowd_penalty_edges` more (less farther off), so a split that
+/// sends robots apart can beat one that is a little shorter. Robot 0 and
+/// a team mate stand on node 4 of the corridor, facing east and west, and
+/// the team mate has announced node 6. Without the penalty the team takes
+/// the shorter split (robot 0 to 6 ahead of it, the team mate to 1 ahead
+/// of it); with it, robot 0 turns to 1 and leaves 6 to the team mate, as
+/// long as the penalty outweighs the two U-turns.
+#[test]
+fn the_crowd_penalty_sends_robots_away_from_a_team_mate_s_target() {
+    let (map, robot) = corridor();
+    let b = map.bounds();
+    let mate = RobotView {
+        heading: Heading::West,
+        target: Some(Pos::new(6, 0)),
+        ..robot
+    };
+    let robots = [robot, mate];
+    let timing = Timing::DEFAULT;
+    let u_turn = 2 * i64::from(timing.quarter_turn);
+    let edge = i64::from(timing.edge);
+    let goal = |penalty: u32| {
+        let mut fields = fresh_fields(b.area(), 2);
+        let mut tempo = Tempo::new(TempoConfig {
+            home_pull_pct: 0,
+            crowd_penalty_edges: penalty,
+            ..TempoConfig::default()
+        });
+        tempo.decide(&ctx(&map, &robots), &mut fields).unwrap().goal
+    };
+    assert_eq!(goal(0), Goal::Frontier(Pos::new(6, 0)));
+    // The penalty must outweigh two U-turns for the other split to win.
+    let enough = u32::try_from((2 * u_turn) / edge + 1).unwrap();
+    assert_eq!(goal(enough), Goal::Frontier(Pos::new(1, 0)));
+    // Only in teams of at most `crowd_team`.
+    let mut fields = fresh_fields(b.area(), 2);
+    let mut tempo = Tempo::new(TempoConfig {
+        home_pull_pct: 0,
+        crowd_penalty_edges: enough,
+        crowd_team: 1,
+        ..TempoConfig::default()
+    });
+    let d = tempo.decide(&ctx(&map, &robots), &mut fields).unwrap();
+    assert_eq!(d.goal, Goal::Frontier(Pos::new(6, 0)));
+}
