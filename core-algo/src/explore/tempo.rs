@@ -38,7 +38,7 @@
 //! Manhattan distance of 4): the min-sum assignment keeps robots off one
 //! node, not off one room, and this soft push apart, like Burgard's
 //! utility discount, cut the makespan by 3 % in the system simulator and
-//! by 1.5 % on 32² fields held out from the tuning
+//! by 1.8 % on 32² fields held out from the tuning
 //! (docs/results/exploration.md, stop 34).
 //!
 //! A robot keeps its share without re-assigning while the map is unchanged
@@ -280,7 +280,6 @@ where
         let robots = ctx.robots;
         // Large teams break ties alike in every robot (see `tie_break`).
         let ties = k > cfg.tie_break_team;
-        let team = k;
         let scale = if ties { TIE_SCALE } else { 1 };
         let travel = |j: usize, d: Ticks| -> i64 {
             let t = i64::from(d) + robots.get(j).map_or(0, |r| i64::from(r.eta));
@@ -299,7 +298,7 @@ where
                     .is_some_and(|x| x.visited_neighbours() == 3);
             let p = bounds.pos(i);
             let pull = per_edge * i64::from(p.manhattan(r.home));
-            let crowd = if cfg.crowd_penalty_edges > 0 && team <= cfg.crowd_team {
+            let crowd = if cfg.crowd_penalty_edges > 0 && k <= cfg.crowd_team {
                 let near = robots
                     .iter()
                     .enumerate()
@@ -308,7 +307,7 @@ where
                     .map(|t| t.manhattan(p))
                     .min()
                     .unwrap_or(u32::MAX);
-                let r = cfg.crowd_radius + 1;
+                let r = cfg.crowd_radius.saturating_add(1);
                 i64::from(r.saturating_sub(near)) * i64::from(cfg.crowd_penalty_edges) * edge
                     / i64::from(r)
             } else {

@@ -57,7 +57,7 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
         other => {
             // `tempo:<deduce edges>:<endgame 0|1>:<idle: 0 trail, 1 home, 2 stay>:<spread>:<squared 0|1>[:<trail edges>[:<home pull %>[:<trail team>[:<keep share 0|1>[:<trail far, nodes per robot>[:<share slack, map changes>[:<corridor keeps share 0|1>[:<tie-break team>[:<crowd penalty edges>[:<crowd radius>]]]]]]]]]]`
             // for ablations; a field left out is off (keep share and
-            // corridor keeps share: on).
+            // corridor keeps share: on; the crowd radius: 4).
             let rest = other.strip_prefix("tempo:")?;
             let v: Vec<u32> = rest
                 .split(':')
