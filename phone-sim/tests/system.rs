@@ -225,42 +225,18 @@ fn robots_that_made_way_follow_their_team_mate_home() {
     );
 }
 
-/// The 2010 project's `test.sim` (16 nodes, 5 starts side by side), as
-/// in shared/maps/original: small, crowded, every home on a team mate's
-/// way.
-const TEST_SIM: &str = "5
--3 -1 BOTTOMRIGHTEDGE 0
--2 -1 BOTTOMT 0
--1 -1 BOTTOMT 0
-0 -1 BOTTOMT 0
-1 -1 BOTTOMLEFTEDGE 0
--3 0 TOPRIGHTEDGE
--2 0 CROSS
--1 0 CROSS
-0 0 CROSS
-1 0 TOPLEFTEDGE
--2 1 RIGHTT
--1 1 CROSS
-0 1 LEFTT
--2 2 TOPRIGHTEDGE
--1 2 TOPT
-0 2 TOPLEFTEDGE
-";
-
 /// A robot whose home fills first, bumped by a team mate retreating *for
 /// it*, steps aside and comes back once that team mate holds its spot,
 /// instead of standing out the whole yield wait while everyone waits for
 /// it. On test.sim the way home took 37.7 s with 4 robots and 43.5 s with
-/// 5 before (stop 32), 27.5 s and 22.7 s now (docs/results/system.md,
-/// stop 33).
+/// 5 before (stop 32), 27.5 s and 22.7 s after stop 33, 27.3 s and 22.6 s
+/// with stop 34's crowd penalty (docs/results/system.md).
 #[test]
 fn a_robot_that_made_way_for_a_retreat_comes_back_once_it_holds() {
-    let f = field::parse_bytes(
-        TEST_SIM.as_bytes(),
-        "test.sim",
-        field::LoadOptions::default(),
-    )
-    .expect("test.sim");
+    // The 2010 project's test.sim: 16 nodes, 5 starts side by side, every
+    // home on a team mate's way.
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fields");
+    let f = field::load(&dir.join("small/test.sim")).expect("test.sim");
     for robots in [4, 5] {
         let (o, sim) = run(&f, robots, "tempo", SimConfig::default());
         let what = format!("test.sim with {robots} robots");

@@ -298,6 +298,9 @@ where
                     .is_some_and(|x| x.visited_neighbours() == 3);
             let p = bounds.pos(i);
             let pull = per_edge * i64::from(p.manhattan(r.home));
+            // A cousin of the seed's `CooperationLayer`, not that layer:
+            // a fractional fall-off from the nearest announced target, no
+            // route check, no sum over targets; the form that was measured.
             let crowd = if cfg.crowd_penalty_edges > 0 && k <= cfg.crowd_team {
                 let near = robots
                     .iter()

@@ -2,9 +2,10 @@ use super::*;
 use core_algo::geometry::legacy;
 use proptest::prelude::*;
 
-/// A small field in the 2010 `.sim` format, written for these tests: the
-/// shape of the 2010 `test.sim` (a 5 x 2 strip with a 3 x 3 block below).
-const STRIP_SIM: &str = "5\n-3 -1 BOTTOMRIGHTEDGE 0\n-2 -1 BOTTOMT 0\n-1 -1 BOTTOMT 0\n0 -1 BOTTOMT 0\n1 -1 BOTTOMLEFTEDGE 0\n-3 0 TOPRIGHTEDGE\n-2 0 CROSS\n-1 0 CROSS\n0 0 CROSS\n1 0 TOPLEFTEDGE\n-2 1 RIGHTT\n-1 1 CROSS\n0 1 LEFTT\n-2 2 TOPRIGHTEDGE\n-1 2 TOPT\n0 2 TOPLEFTEDGE\n";
+/// A small field in the 2010 `.sim` format: the 2010 `test.sim` (a 5 x 2
+/// strip with a 3 x 3 block below), as the project keeps it in
+/// `fields/small/test.sim`.
+const STRIP_SIM: &str = include_str!("../../../fields/small/test.sim");
 
 fn strip() -> Field {
     sim::parse_sim(STRIP_SIM, "strip.sim", "strip").unwrap()
