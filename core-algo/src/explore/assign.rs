@@ -34,6 +34,10 @@ pub(crate) struct Candidates {
     pub(crate) m: usize,
     pub(crate) nodes: [usize; MAX_CANDIDATES],
     pub(crate) cost: [[i64; MAX_CANDIDATES]; MAX_ROBOTS],
+    /// Robots left out of the assignment (bit j: robot j): not rows of
+    /// the problem at all, so that they take no column and their
+    /// potentials prove nothing (see [`Candidates::cheapest`]).
+    pub(crate) left_out: u32,
 }
 
 impl Candidates {
@@ -44,6 +48,7 @@ impl Candidates {
             m: 0,
             nodes: [0; MAX_CANDIDATES],
             cost: [[INF; MAX_CANDIDATES]; MAX_ROBOTS],
+            left_out: 0,
         }
     }
 
@@ -156,14 +161,17 @@ impl Candidates {
     /// `lazy` (for the min-sum objective only) starts from fewer picks
     /// and proves the assignment optimal instead: see [`Picks`]. `reverse`
     /// chooses how the endgame finds its costs (see
-    /// [`Candidates::endgame`]).
+    /// [`Candidates::endgame`]). Robots in the `left_out` mask (bit j:
+    /// robot j) bring no picks and get no column, their fields not
+    /// searched, outside the endgame; `cost` must exclude them too, as the
+    /// endgame asks it.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn cheapest<M, F>(
         ctx: &Context<'_, M>,
         fields: &mut [DistField<F>],
         per_robot: usize,
         spread: u32,
-        (lazy, reverse): (bool, bool),
+        (lazy, reverse, left_out): (bool, bool, u32),
         mut cost: impl FnMut(usize, usize, Ticks) -> Option<i64>,
         mut floor: impl FnMut(usize, Ticks) -> i64,
         bound: impl FnMut(usize, usize) -> i64,
@@ -196,8 +204,13 @@ impl Candidates {
         };
         let mut picks = [Picks::new(first); MAX_ROBOTS];
         let mut stale = [true; MAX_ROBOTS];
+        let out = |j: usize| left_out & (1 << (j % 32)) != 0;
+        for (j, s) in stale.iter_mut().enumerate() {
+            *s = !out(j);
+        }
         loop {
             let mut c = Candidates::empty(k);
+            c.left_out = left_out;
             for (j, (r, field)) in ctx.robots.iter().zip(fields.iter_mut()).enumerate() {
                 let (Some(p), Some(s)) = (picks.get_mut(j), stale.get_mut(j)) else {
                     continue;
@@ -217,6 +230,9 @@ impl Candidates {
                 }
             }
             for (j, field) in fields.iter().take(k).enumerate() {
+                if out(j) {
+                    continue;
+                }
                 for col in 0..c.m {
                     let Some(&node) = c.nodes.get(col) else {
                         continue;
@@ -233,8 +249,11 @@ impl Candidates {
             }
             let (_, u) = hungarian(&c, INF - 1);
             let mut grown = false;
-            for ((&uj, p), s) in u.iter().zip(picks.iter_mut()).zip(stale.iter_mut()).take(k) {
-                if uj > p.beyond() && p.more(per_robot) {
+            let rows = u.iter().zip(picks.iter_mut()).zip(stale.iter_mut());
+            for (j, ((&uj, p), s)) in rows.enumerate().take(k) {
+                // A left-out row is all forbidden: its potential proves
+                // nothing and it has no field to grow.
+                if !out(j) && uj > p.beyond() && p.more(per_robot) {
                     *s = true;
                     grown = true;
                 }
@@ -271,9 +290,9 @@ impl Candidates {
     }
 }
 
-/// Min-sum assignment of `k` rows to `m ≥ k` columns of `cost` (capped at
-/// `cap`: costlier pairs count as forbidden): the Hungarian algorithm with
-/// potentials, O(k²·m). Returns the column of each row, `None` where only a
+/// Min-sum assignment of `k` rows (but the left-out ones) to `m ≥ k`
+/// columns of `cost` (capped at `cap`: costlier pairs count as forbidden):
+/// the Hungarian algorithm with potentials, O(k²·m). Returns the column of each row, `None` where only a
 /// forbidden pair was left, and each row's potential `u` (see [`Picks`]).
 fn hungarian(c: &Candidates, cap: i64) -> ([Option<usize>; MAX_ROBOTS], [i64; MAX_ROBOTS]) {
     let (n, m) = (c.k, c.m.max(c.k));
@@ -292,6 +311,9 @@ fn hungarian(c: &Candidates, cap: i64) -> ([Option<usize>; MAX_ROBOTS], [i64; MA
     };
     let get = |a: &[i64], i: usize| a.get(i).copied().unwrap_or(0);
     for i in 1..=n {
+        if c.left_out & (1 << ((i - 1) % 32)) != 0 {
+            continue;
+        }
         if let Some(x) = p.get_mut(0) {
             *x = i;
         }

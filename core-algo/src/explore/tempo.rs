@@ -48,6 +48,16 @@
 //! was a quarter of the decisions in a 16-robot maze, each over most of
 //! the map (`corridor_keeps_share`).
 //!
+//! In teams of more than six, a robot at least 24 edges (Manhattan) from
+//! its share keeps it too, whatever changed, while no team mate has
+//! announced it or stands within half that distance of it
+//! (`far_keeps_share`). Every robot predicts this alike from the same
+//! views, so a deciding robot leaves such team mates out of its
+//! assignment, with their shares, and does not search their fields, the
+//! costliest of a decision: on 256² fields with 16 robots, random fell
+//! from 104 s to 53 s of wall time with a 1 % shorter makespan, open was
+//! unchanged (docs/results/performance.md, stop 35).
+//!
 //! In teams of more than six, every cost carries a tie-break below one
 //! tick that every robot computes alike (`tie_break`): the cheapest
 //! assignment is then (almost always) unique, so robots deciding on the
@@ -160,6 +170,21 @@ pub struct TempoConfig {
     /// See `crowd_penalty_edges`: larger teams measured 1.5 % slower with
     /// it (docs/results/exploration.md, stop 34).
     pub crowd_team: usize,
+    /// With `keep_share`: a robot at least this many edges (Manhattan)
+    /// from its share keeps it whatever changed in the map, while no team
+    /// mate has announced it (0: never), and team mates leave it out of
+    /// their assignments (see the module docs). Not exact, like
+    /// `corridor_keeps_share`; 12 lost 3 % on 40² fields with 10 and 16
+    /// robots, 24 lost nothing.
+    pub far_keeps_share: u32,
+    /// `far_keeps_share` holds in teams of more than this many robots.
+    pub far_keeps_share_team: usize,
+    /// With `far_keeps_share`: n > 0 ends a far share when another robot
+    /// stands within 1/n of the distance of it (0: never). Without it,
+    /// rooms and mazes ran far faster (rooms 256² in about 2 minutes, not
+    /// over 9), but open and random 256² fields took 4–5 % longer: a far
+    /// robot's share was left to it even with a team mate next to it.
+    pub far_nearer: u32,
 }
 
 impl TempoConfig {
@@ -192,6 +217,9 @@ impl Default for TempoConfig {
             crowd_penalty_edges: 2,
             crowd_radius: 4,
             crowd_team: 6,
+            far_keeps_share: 24,
+            far_keeps_share_team: 6,
+            far_nearer: 2,
         }
     }
 }
@@ -234,8 +262,13 @@ where
         let k = ctx.robots.len();
         let cfg = self.config;
         let kept = self.kept.get_mut(me).and_then(Option::take);
+        let far = if cfg.keep_share && k > cfg.far_keeps_share_team {
+            (cfg.far_keeps_share, cfg.far_nearer)
+        } else {
+            (0, 0)
+        };
         if let (true, Some(c)) = (cfg.keep_share, kept) {
-            if c.holds(ctx, cfg.share_slack, cfg.corridor_keeps_share) {
+            if c.holds(ctx, cfg.share_slack, cfg.corridor_keeps_share, far) {
                 match (c.share(), fields.get_mut(me), ctx.my()) {
                     (None, ..) => {
                         self.keep(ctx, None, WAIT);
@@ -289,7 +322,11 @@ where
                 t
             }
         };
+        let (left_out, kept_far) = keeping_far(ctx, far);
         let cost = |j: usize, i: usize, d: Ticks| -> Option<i64> {
+            if left_out & (1 << (j % 32)) != 0 || kept_far.contains(&Some(i)) {
+                return None;
+            }
             let r = robots.get(j)?;
             let deduce = pen > 0
                 && ctx
@@ -366,8 +403,16 @@ where
         // Lazy picks are proved by the min-sum duals; the return-aware
         // endgame changes the costs after collecting, so it needs them all.
         let lazy = !cfg.endgame_return && k > cfg.eager_team;
-        let Some(mut c) =
-            Candidates::cheapest(ctx, fields, k, cfg.spread, (lazy, ties), cost, floor, bound)?
+        let Some(mut c) = Candidates::cheapest(
+            ctx,
+            fields,
+            k,
+            cfg.spread,
+            (lazy, ties, left_out),
+            cost,
+            floor,
+            bound,
+        )?
         else {
             return match fields.first_mut() {
                 Some(f) => nearest_or_home(ctx, f),
@@ -452,6 +497,42 @@ where
             None => nearest_or_home(ctx, f),
         }
     }
+}
+
+/// The team mates that keep a far share, as each will (see
+/// `Commitment::holds`): at least `far` edges (Manhattan, 0: none) from the
+/// frontier node it announced, which no other robot has announced. They
+/// are left out of the deciding robot's assignment (bit j: robot j), their
+/// shares with them, and their fields are not searched: robots on a long
+/// way to work cost most to search and, keeping their shares, would not
+/// change. Never in the endgame (fewer frontier nodes than robots), where
+/// the reverse searches look for every robot.
+fn keeping_far<M>(
+    ctx: &Context<'_, M>,
+    far: (u32, u32),
+) -> (u32, [Option<usize>; super::MAX_ROBOTS])
+where
+    M: AsRef<[Block]> + AsMut<[Block]>,
+{
+    let mut left_out = 0u32;
+    let mut shares = [None; super::MAX_ROBOTS];
+    let map = ctx.map;
+    if far.0 == 0 || map.frontier_len() < ctx.robots.len() {
+        return (left_out, shares);
+    }
+    for (j, r) in ctx.robots.iter().enumerate() {
+        let Some(t) = r.target.filter(|_| j != ctx.me) else {
+            continue;
+        };
+        let share = map.bounds().index(t).filter(|&i| map.is_frontier_at(i));
+        if let (Some(i), Some(slot)) = (share, shares.get_mut(j)) {
+            if commitment::keeps_far(ctx, j, t, far) {
+                *slot = Some(i);
+                left_out |= 1 << (j % 32);
+            }
+        }
+    }
+    (left_out, shares)
 }
 
 impl Tempo {

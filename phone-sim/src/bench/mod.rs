@@ -55,7 +55,7 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
         "minpos" => Box::new(MinPos),
         "tempo" => Box::new(Tempo::default()),
         other => {
-            // `tempo:<deduce edges>:<endgame 0|1>:<idle: 0 trail, 1 home, 2 stay>:<spread>:<squared 0|1>[:<trail edges>[:<home pull %>[:<trail team>[:<keep share 0|1>[:<trail far, nodes per robot>[:<share slack, map changes>[:<corridor keeps share 0|1>[:<tie-break team>[:<crowd penalty edges>[:<crowd radius>]]]]]]]]]]`
+            // `tempo:<deduce edges>:<endgame 0|1>:<idle: 0 trail, 1 home, 2 stay>:<spread>:<squared 0|1>[:<trail edges>[:<home pull %>[:<trail team>[:<keep share 0|1>[:<trail far, nodes per robot>[:<share slack, map changes>[:<corridor keeps share 0|1>[:<tie-break team>[:<crowd penalty edges>[:<crowd radius>[:<far keeps share, edges>[:<its team>[:<far nearer>]]]]]]]]]]]]]`
             // for ablations; a field left out is off (keep share and
             // corridor keeps share: on; the crowd radius: 4).
             let rest = other.strip_prefix("tempo:")?;
@@ -66,12 +66,31 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
             // The values of the fields left out: off (a tie-break team of
             // u32::MAX: no team breaks ties), but no team limit on
             // trailing, and keep share and corridor keeps share on.
-            let mut x: [u32; 15] = [0, 0, 0, 0, 0, 0, 0, u32::MAX, 1, 0, 0, 1, u32::MAX, 0, 4];
+            let mut x: [u32; 18] = [
+                0,
+                0,
+                0,
+                0,
+                0,
+                0,
+                0,
+                u32::MAX,
+                1,
+                0,
+                0,
+                1,
+                u32::MAX,
+                0,
+                4,
+                0,
+                6,
+                0,
+            ];
             if !(5..=x.len()).contains(&v.len()) {
                 return None;
             }
             x.get_mut(..v.len())?.copy_from_slice(&v);
-            let [d, e, i, s, q, t, h, k, c, f, l, r, b, cp, cr] = x;
+            let [d, e, i, s, q, t, h, k, c, f, l, r, b, cp, cr, fk, ft, fe] = x;
             Box::new(Tempo::new(TempoConfig {
                 keep_share: c != 0,
                 deduce_penalty_edges: d,
@@ -89,6 +108,9 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
                 tie_break_team: usize::try_from(b).unwrap_or(usize::MAX),
                 crowd_penalty_edges: cp,
                 crowd_radius: cr,
+                far_keeps_share: fk,
+                far_keeps_share_team: usize::try_from(ft).unwrap_or(usize::MAX),
+                far_nearer: fe,
                 ..TempoConfig::default()
             }))
         }

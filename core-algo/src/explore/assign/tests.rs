@@ -82,9 +82,13 @@ proptest! {
     fn cheapest_candidates_lose_no_optimal_assignment(
         w in 2u16..12, h in 2u16..12, seed in any::<u64>(), frac in 0.05f64..1.0,
         k in 1usize..17, pull in 0u32..60, me in 0usize..16, lazy in any::<bool>(),
-        reverse in any::<bool>(),
+        reverse in any::<bool>(), out in any::<u16>(),
     ) {
         let area = usize::from(w) * usize::from(h);
+        // Team mates left out of the assignment (never the decider), as
+        // tempo leaves out those that keep a far share; the endgame takes
+        // everyone, so only outside it.
+        let left_out = u32::from(out) & !(1 << (me % k)) & ((1 << k) - 1);
         let (map, mut robots) = random_team(w, h, seed, frac, k);
         let b = map.bounds();
         for (j, r) in robots.iter_mut().enumerate() {
@@ -94,7 +98,11 @@ proptest! {
         let ctx = Context { map: &map, timing, robots: &robots, me: me % k };
         let edge = i64::from(timing.edge);
         let per_edge = edge * i64::from(pull) / 100;
+        let left_out = if map.frontier_len() < k { 0 } else { left_out };
         let cost = |j: usize, i: usize, d: Ticks| -> Option<i64> {
+            if left_out & (1 << j) != 0 {
+                return None;
+            }
             let r = robots.get(j)?;
             Some(i64::from(d) + i64::from(r.eta) - per_edge * i64::from(b.pos(i).manhattan(r.home)))
         };
@@ -117,11 +125,19 @@ proptest! {
         };
         let field = || DistField::new(vec![PlanCell::EMPTY; min_cells(area)]);
         let mut fields: Vec<_> = (0..k).map(|_| field()).collect();
-        let c = Candidates::cheapest(&ctx, &mut fields, k, 0, (lazy, reverse), cost, floor, bound).unwrap().unwrap();
+        let c = Candidates::cheapest(&ctx, &mut fields, k, 0, (lazy, reverse, left_out), cost, floor, bound).unwrap().unwrap();
         let (full, best) = full_costs(&map, timing, &robots, cost);
         prop_assume!(best.is_some());
-        let got = total(&hungarian_cols(&c, AssignmentObjective::MinSum), &c.nodes, &full);
+        let cols = hungarian_cols(&c, AssignmentObjective::MinSum);
+        let got = total(&cols, &c.nodes, &full);
         prop_assert_eq!(Some(got), best);
+        // A left-out robot gets nothing, and nobody searched its field.
+        for j in 0..k {
+            if left_out & (1 << j) != 0 {
+                prop_assert_eq!(cols[j], None);
+                prop_assert!(!fields[j].is_search_from(&map, timing, robots[j].pos, robots[j].heading));
+            }
+        }
         // The decider's field is its own search, and it reaches every node
         // the decider may be given: tempo takes the way from it. The
         // reverse endgame searches no field of the decider's (tempo then
@@ -216,7 +232,7 @@ proptest! {
                 i64::from(d) + i64::from(r.eta) - by_travel.min(by_extent)
             };
             let bound = |_: usize, _: usize| i64::MIN;
-            let c = Candidates::cheapest(&ctx, &mut fields, k, 0, (false, true), cost, floor, bound)
+            let c = Candidates::cheapest(&ctx, &mut fields, k, 0, (false, true, 0), cost, floor, bound)
                 .unwrap()
                 .unwrap();
             let (full, best) = full_costs(&map, timing, &robots, cost);

@@ -94,8 +94,15 @@ impl Commitment {
     /// Whether this still holds for the robot deciding in `ctx`; a share
     /// (not a wait) survives up to `slack` map changes (0: none, exact),
     /// and any number of them on a corridor node if `corridors` (see
-    /// `TempoConfig::corridor_keeps_share`).
-    pub(super) fn holds<M>(&self, ctx: &Context<'_, M>, slack: u32, corridors: bool) -> bool
+    /// `TempoConfig::corridor_keeps_share`), or while [`keeps_far`] holds
+    /// (see `TempoConfig::far_keeps_share`).
+    pub(super) fn holds<M>(
+        &self,
+        ctx: &Context<'_, M>,
+        slack: u32,
+        corridors: bool,
+        far: (u32, u32),
+    ) -> bool
     where
         M: AsRef<[Block]> + AsMut<[Block]>,
     {
@@ -109,11 +116,49 @@ impl Commitment {
                 .known_arms(me.pos)
                 .is_some_and(|arms| arms.iter().count() == 2)
         };
-        (changes <= slack || corridors && self.share.is_some() && corridor())
+        let kept_anyway = match self.share {
+            Some(i) => corridors && corridor() || keeps_far(ctx, ctx.me, bounds.pos(i), far),
+            None => false,
+        };
+        (changes <= slack || kept_anyway)
             && self.team == ctx.robots.len()
             && self.away == Self::away(ctx)
             && bounds.index(me.pos) == Some(self.pose.0)
             && me.heading == self.pose.1
             && self.share.is_none_or(|i| ctx.map.is_frontier_at(i))
     }
+}
+
+/// Whether robot `j` keeps its share `share` whatever changed in the map,
+/// as every robot of the team predicts alike from the same views: it is
+/// at least `far` edges (Manhattan; 0: never) away, no other robot has
+/// announced it, and, with `nearer` n > 0, no other robot stands within
+/// 1/n of that distance of it (one that could take it over sooner).
+/// Robots on a long way to work rarely changed their shares in a fresh
+/// decision, yet their fields were the costliest to search
+/// (docs/results/performance.md, stop 35).
+pub(super) fn keeps_far<M>(
+    ctx: &Context<'_, M>,
+    j: usize,
+    share: crate::geometry::Pos,
+    (far, nearer): (u32, u32),
+) -> bool
+where
+    M: AsRef<[Block]> + AsMut<[Block]>,
+{
+    let Some(r) = ctx.robots.get(j) else {
+        return false;
+    };
+    let d = r.pos.manhattan(share);
+    far > 0
+        && d >= far
+        && ctx
+            .robots
+            .iter()
+            .enumerate()
+            .filter(|&(o, _)| o != j)
+            .all(|(_, x)| {
+                x.target != Some(share)
+                    && (nearer == 0 || nearer.saturating_mul(x.pos.manhattan(share)) >= d)
+            })
 }
