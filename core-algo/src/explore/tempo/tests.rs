@@ -309,15 +309,12 @@ fn a_share_survives_as_many_map_changes_as_its_slack() {
     assert!(!wait.holds(&ctx(&map, &robots), 3, false, (0, 0)));
 }
 
-/// `corridor_keeps_share`: on a corridor node a share survives any map
-/// change; at a junction it does not, nor does a wait anywhere.
-#[test]
-fn a_share_is_kept_through_a_corridor_but_not_at_a_junction() {
-    // x = 2..=5 visited, a junction at 4 (an arm north); frontier nodes at
-    // 1, 6 and (4, 1).
-    let b = crate::map::Bounds::new(Pos::new(0, 0), 8, 2);
+/// A corridor along y = 0 with x = 2..end visited and a junction at 4 (an
+/// arm north), in a window two nodes high and `end + 2` wide.
+fn corridor_with_junction(end: i16) -> (KnownMap<Vec<Block>>, crate::map::Bounds) {
+    let b = crate::map::Bounds::new(Pos::new(0, 0), (end + 2) as u16, 2);
     let mut map = KnownMap::new(vec![Block::EMPTY; crate::map::blocks_for(b.area())], b).unwrap();
-    for x in 2..6 {
+    for x in 2..end {
         let arms = if x == 4 {
             line().with(Heading::North)
         } else {
@@ -326,6 +323,16 @@ fn a_share_is_kept_through_a_corridor_but_not_at_a_junction() {
         map.visit(Pos::new(x, 0), arms, crate::team::RobotId(0))
             .unwrap();
     }
+    (map, b)
+}
+
+/// `corridor_keeps_share`: on a corridor node a share survives any map
+/// change; at a junction it does not, nor does a wait anywhere.
+#[test]
+fn a_share_is_kept_through_a_corridor_but_not_at_a_junction() {
+    // x = 2..=5 visited, a junction at 4 (an arm north); frontier nodes at
+    // 1, 6 and (4, 1).
+    let (mut map, b) = corridor_with_junction(6);
     let mut robots = [RobotView {
         pos: Pos::new(2, 0),
         heading: Heading::East,
@@ -366,17 +373,7 @@ fn a_share_is_kept_through_a_corridor_but_not_at_a_junction() {
 fn a_far_share_is_kept_at_a_junction_until_a_team_mate_announces_it() {
     // x = 2..=13 visited, a junction at 4 (an arm north); frontier nodes
     // at 1, 14 and (4, 1).
-    let b = crate::map::Bounds::new(Pos::new(0, 0), 16, 2);
-    let mut map = KnownMap::new(vec![Block::EMPTY; crate::map::blocks_for(b.area())], b).unwrap();
-    for x in 2..14 {
-        let arms = if x == 4 {
-            line().with(Heading::North)
-        } else {
-            line()
-        };
-        map.visit(Pos::new(x, 0), arms, crate::team::RobotId(0))
-            .unwrap();
-    }
+    let (mut map, b) = corridor_with_junction(14);
     let view = |x: i16| RobotView {
         pos: Pos::new(x, 0),
         heading: Heading::East,
