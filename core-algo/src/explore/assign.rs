@@ -292,8 +292,9 @@ impl Candidates {
 
 /// Min-sum assignment of `k` rows (but the left-out ones) to `m ≥ k`
 /// columns of `cost` (capped at `cap`: costlier pairs count as forbidden):
-/// the Hungarian algorithm with potentials, O(k²·m). Returns the column of each row, `None` where only a
-/// forbidden pair was left, and each row's potential `u` (see [`Picks`]).
+/// the Hungarian algorithm with potentials, O(k²·m). Returns the column
+/// of each row, `None` where only a forbidden pair was left (and for
+/// left-out rows), and each row's potential `u` (see [`Picks`]).
 fn hungarian(c: &Candidates, cap: i64) -> ([Option<usize>; MAX_ROBOTS], [i64; MAX_ROBOTS]) {
     let (n, m) = (c.k, c.m.max(c.k));
     // 1-based arrays as in the textbook form; column 0 is the virtual one.

@@ -56,7 +56,9 @@
 //! assignment, with their shares, and does not search their fields, the
 //! costliest of a decision: on 256² fields with 16 robots, random fell
 //! from 104 s to 53 s of wall time with a 1 % shorter makespan, open was
-//! unchanged (docs/results/performance.md, stop 35).
+//! unchanged, and rooms and mazes, where a far share nearly always has a
+//! team mate near it, gained little (docs/results/performance.md,
+//! stop 35).
 //!
 //! In teams of more than six, every cost carries a tie-break below one
 //! tick that every robot computes alike (`tie_break`): the cheapest
@@ -174,8 +176,8 @@ pub struct TempoConfig {
     /// from its share keeps it whatever changed in the map, while no team
     /// mate has announced it (0: never), and team mates leave it out of
     /// their assignments (see the module docs). Not exact, like
-    /// `corridor_keeps_share`; 12 lost 3 % on 40² fields with 10 and 16
-    /// robots, 24 lost nothing.
+    /// `corridor_keeps_share`; without `far_nearer`, 12 lost 3 % on 40²
+    /// fields with 10 and 16 robots, 24 lost nothing.
     pub far_keeps_share: u32,
     /// `far_keeps_share` holds in teams of more than this many robots.
     pub far_keeps_share_team: usize,
@@ -500,8 +502,9 @@ where
 }
 
 /// The team mates that keep a far share, as each will (see
-/// `Commitment::holds`): at least `far` edges (Manhattan, 0: none) from the
-/// frontier node it announced, which no other robot has announced. They
+/// `Commitment::holds`): the frontier node each announced, where
+/// `commitment::keeps_far` holds for it (far from it, no other robot
+/// announcing it or, with `far.1`, standing near it). They
 /// are left out of the deciding robot's assignment (bit j: robot j), their
 /// shares with them, and their fields are not searched: robots on a long
 /// way to work cost most to search and, keeping their shares, would not
