@@ -40,6 +40,12 @@ pub(crate) struct Candidates {
     pub(crate) left_out: u32,
 }
 
+/// Whether robot `j` is in a `left_out` mask (bit j: robot j; see
+/// [`Candidates::cheapest`]).
+pub(crate) fn is_left_out(mask: u32, j: usize) -> bool {
+    mask & (1 << (j % 32)) != 0
+}
+
 impl Candidates {
     /// No candidates yet for a team of `k`: every pair forbidden.
     pub(crate) fn empty(k: usize) -> Candidates {
@@ -204,7 +210,7 @@ impl Candidates {
         };
         let mut picks = [Picks::new(first); MAX_ROBOTS];
         let mut stale = [true; MAX_ROBOTS];
-        let out = |j: usize| left_out & (1 << (j % 32)) != 0;
+        let out = |j: usize| is_left_out(left_out, j);
         for (j, s) in stale.iter_mut().enumerate() {
             *s = !out(j);
         }
@@ -312,7 +318,7 @@ fn hungarian(c: &Candidates, cap: i64) -> ([Option<usize>; MAX_ROBOTS], [i64; MA
     };
     let get = |a: &[i64], i: usize| a.get(i).copied().unwrap_or(0);
     for i in 1..=n {
-        if c.left_out & (1 << ((i - 1) % 32)) != 0 {
+        if is_left_out(c.left_out, i - 1) {
             continue;
         }
         if let Some(x) = p.get_mut(0) {

@@ -83,7 +83,7 @@
 //!   wait cost 6 % on 40² fields with 10 and 16 robots, and one of 64 runs
 //!   did not get home.
 
-use super::assign::{AssignmentObjective, Candidates, hungarian_cols};
+use super::assign::{AssignmentObjective, Candidates, hungarian_cols, is_left_out};
 use super::{Context, Decision, Strategy, explore_decision, go_home, nearest_or_home};
 use crate::map::Block;
 use crate::path::{DistField, Flow, PlanCell, PlanError};
@@ -326,7 +326,9 @@ where
         };
         let (left_out, kept_far) = keeping_far(ctx, far);
         let cost = |j: usize, i: usize, d: Ticks| -> Option<i64> {
-            if left_out & (1 << (j % 32)) != 0 || kept_far.contains(&Some(i)) {
+            // The far shares are only scanned when some team mate keeps one
+            // (this closure runs for every frontier node a search reaches).
+            if left_out != 0 && (is_left_out(left_out, j) || kept_far.contains(&Some(i))) {
                 return None;
             }
             let r = robots.get(j)?;
@@ -504,11 +506,10 @@ where
 /// The team mates that keep a far share, as each will (see
 /// `Commitment::holds`): the frontier node each announced, where
 /// `commitment::keeps_far` holds for it (far from it, no other robot
-/// announcing it or, with `far.1`, standing near it). They
-/// are left out of the deciding robot's assignment (bit j: robot j), their
-/// shares with them, and their fields are not searched: robots on a long
-/// way to work cost most to search and, keeping their shares, would not
-/// change. Never in the endgame (fewer frontier nodes than robots), where
+/// announcing it or, with `far.1`, standing near it). They are left out
+/// of the deciding robot's assignment (bit j: robot j), their shares with
+/// them, and their fields are not searched: robots on a long way to work
+/// cost most to search and, keeping their shares, would not change. Never in the endgame (fewer frontier nodes than robots), where
 /// the reverse searches look for every robot.
 fn keeping_far<M>(
     ctx: &Context<'_, M>,
