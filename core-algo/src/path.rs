@@ -430,13 +430,53 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         if self.start.is_none() {
             return Ok(());
         }
-        self.run::<M, false>(map, |v, _, key, first| {
+        self.run::<M, false>(map, |_| true, |v, _, key, first| {
             if first {
                 reached(v, key)
             } else {
                 Flow::Continue
             }
         })
+    }
+
+    /// [`DistField::compute`] that never drives through the nodes `avoid`
+    /// names: they are reached, as frontier nodes are, but not passed (the
+    /// start may always be left). It answers "which nodes can be reached
+    /// without passing these?", which one cheapest path cannot: the
+    /// cheapest way may pass such a node where a dearer one does not.
+    /// Afterwards the field answers distances only ([`DistField::dist_at`]):
+    /// a way read back could step through an avoided node where its
+    /// distance ties, so the field keeps no start to read ways from, and it
+    /// is neither resumed nor reused as a plain search.
+    pub fn compute_avoiding<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        (start, heading): (Pos, Heading),
+        avoid: impl Fn(usize) -> bool,
+        mut reached: impl FnMut(usize, Ticks) -> Flow,
+    ) -> Result<(), PlanError> {
+        self.tree = None;
+        let s0 = self.prepare(map, timing, start, heading)?;
+        let h0 = usize::from(heading.index());
+        self.settle(s0, h0, 0);
+        self.queue.pending = Some((s0, h0, 0));
+        let result = if reached(s0, 0) == Flow::Stop {
+            Ok(())
+        } else {
+            let passable = |v: usize| v == s0 || !avoid(v);
+            self.run::<M, false>(map, passable, |v, _, key, first| {
+                if first {
+                    reached(v, key)
+                } else {
+                    Flow::Continue
+                }
+            })
+        };
+        // A resume would go on without `avoid`.
+        self.queue = Queues::default();
+        self.start = None;
+        result
     }
 
     /// The reverse field of node `goal`: for every (node, heading) state,
@@ -489,7 +529,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let result = if stop {
             Ok(())
         } else {
-            self.run::<M, true>(map, |v, h, key, _| {
+            self.run::<M, true>(map, |_| true, |v, h, key, _| {
                 let flow = reached(v, Heading::from_index(h as u8), key);
                 stop |= flow == Flow::Stop;
                 flow
@@ -512,9 +552,11 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// start) and [`DistField::compute_reverse`] (`REV` true: towards the
     /// goal, each edge driven backwards). `settled(node, heading, key,
     /// first)` sees every settled state; `first` marks the node's first.
+    /// Forward searches drive on from a node only if `passable(node)`.
     fn run<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool>(
         &mut self,
         map: &KnownMap<M>,
+        passable: impl Fn(usize) -> bool,
         mut settled: impl FnMut(usize, usize, Ticks, bool) -> Flow,
     ) -> Result<(), PlanError> {
         // The marks share the ring slots that the queues are about to use.
@@ -549,7 +591,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                             .is_some_and(|a| a.has(heading));
                         (w, ok)
                     } else {
-                        let Some(arms) = arms_at(map, v) else {
+                        let Some(arms) = arms_at(map, v).filter(|_| passable(v)) else {
                             continue;
                         };
                         (neighbour_index(bounds, v, heading), arms.has(heading))

@@ -142,6 +142,26 @@ fn homecomings_that_needed_a_chain_an_order_or_a_way_round() {
     }
 }
 
+/// A robot whose home goes last waits for its team mates near home, and
+/// the homes next to its own fill first. Every spot whose cheapest way
+/// from home was clear of those homes lay at the far end of the corridor
+/// its four team mates were coming home through, taken or cut off by
+/// them, so it stood in that corridor and all five stalled (hunt seed
+/// 2423 of `examples/homecoming_hunt.rs`, random 10 × 4, 5 robots). It now
+/// waits at the nearest spot that another way leaves round those homes.
+#[test]
+fn a_waiting_spot_round_the_homes_that_fill_first() {
+    let f = Kind::Random.generate(10, 4, 2423);
+    let mut config = SimConfig {
+        seed: 2423,
+        ..SimConfig::default()
+    };
+    config.faults.channel.latency_ms = 15;
+    config.faults.channel.jitter_ms = 7;
+    let (o, sim) = run(&f, 5, "tempo", config);
+    assert_sound(&o, &sim, &format!("{} with 5 robots", f.name()));
+}
+
 /// Two robots swapped in a maze's corridor (packed starts make the homes
 /// one corridor): the one behind can make way only if the one ahead backs
 /// out to a branch first. It now pushes through: it drives towards a spot

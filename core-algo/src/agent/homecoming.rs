@@ -502,16 +502,18 @@ where
         // Spots we cannot reach: the way from here runs through a team mate.
         let mut unreachable: Vec<usize, 4> = Vec::new();
         loop {
+            let free = |v: usize| {
+                v != my_home
+                    && !homes.contains(&bounds.pos(v))
+                    && !on_someones_way(v)
+                    && !occupied(v)
+                    && !unreachable.contains(&v)
+            };
             let mut spot = None;
             let mut first = true;
             let found = loop {
                 let mut reached = |v: usize, _| {
-                    if v != my_home
-                        && !homes.contains(&bounds.pos(v))
-                        && !on_someones_way(v)
-                        && !occupied(v)
-                        && !unreachable.contains(&v)
-                    {
+                    if free(v) {
                         spot = Some(v);
                         return Flow::Stop;
                     }
@@ -531,6 +533,27 @@ where
                     break result;
                 }
                 spot = None;
+            };
+            // None whose cheapest way home is clear: then the nearest that
+            // any way leaves without passing those homes. Else, with the
+            // homes next to ours filling first and every spot beyond them
+            // taken or cut off by the team mates coming home, we stood in
+            // their corridor for good (hunt seed 2423).
+            let found = match (found, spot) {
+                (Ok(()), None) => mine.compute_avoiding(
+                    map,
+                    timing,
+                    (self.home, Heading::North),
+                    |v| earlier.contains(&v),
+                    |v, _| {
+                        if free(v) {
+                            spot = Some(v);
+                            return Flow::Stop;
+                        }
+                        Flow::Continue
+                    },
+                ),
+                (other, _) => other,
             };
             let computed = match (found, spot) {
                 (Ok(()), Some(v)) if bounds.index(pos) != Some(v) => {

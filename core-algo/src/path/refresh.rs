@@ -235,7 +235,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         if self.rev_open.is_none_or(|(_, r)| r != map.revision()) {
             return Ok(());
         }
-        let result = self.run::<M, true>(map, |v, h, key, _| {
+        let result = self.run::<M, true>(map, |_| true, |v, h, key, _| {
             reached(v, Heading::from_index(h as u8), key)
         });
         if result.is_err() {

@@ -97,6 +97,17 @@ pub(crate) fn bfs_order(bounds: Bounds, arms: &[Arms]) -> Vec<usize> {
 
 /// Brute-force Dijkstra over (node, heading) states with a binary heap.
 fn brute(map: &KnownMap<Vec<Block>>, t: Timing, s0: usize, h0: usize) -> Vec<Option<u32>> {
+    brute_avoiding(map, t, (s0, h0), &[])
+}
+
+/// [`brute`] that never drives on from (nor turns on) a node in `avoid`
+/// but the start.
+fn brute_avoiding(
+    map: &KnownMap<Vec<Block>>,
+    t: Timing,
+    (s0, h0): (usize, usize),
+    avoid: &[usize],
+) -> Vec<Option<u32>> {
     let b = map.bounds();
     let mut dist = vec![None; b.area() * 4];
     let mut heap = BinaryHeap::new();
@@ -107,6 +118,9 @@ fn brute(map: &KnownMap<Vec<Block>>, t: Timing, s0: usize, h0: usize) -> Vec<Opt
         }
         dist[s] = Some(d);
         let (v, h) = (s / 4, s % 4);
+        if v != s0 && avoid.contains(&v) {
+            continue;
+        }
         let Some(a) = arms_at(map, v) else { continue };
         let hd = Heading::from_index(h as u8);
         if a.has(hd) {
@@ -291,6 +305,43 @@ proptest! {
 
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(96))]
+
+    /// A field that avoids some nodes prices every node as a search of
+    /// the map without driving through them does, gives no ways, cannot
+    /// be resumed, and the scratch it leaves serves a plain search cleanly.
+    #[test]
+    fn avoiding_field_agrees_with_brute_force_without_those_nodes(
+        w in 1u16..10, h in 1u16..10, seed in any::<u64>(), frac in 0.3f64..1.0, h0 in 0u8..4,
+        edge in 1u32..200, turn in 1u32..128, n_avoid in 0usize..6,
+    ) {
+        let area = usize::from(w) * usize::from(h);
+        let map = random_known(w, h, seed, (area as f64 * frac) as usize + 1);
+        let t = Timing { edge, quarter_turn: turn };
+        // The start (node 0) among them too: it may always be left.
+        let avoid: Vec<usize> = (0..n_avoid).map(|k| (seed as usize >> (k * 7)) % area).collect();
+        let mut f = field_for(area);
+        let mut order = Vec::new();
+        f.compute_avoiding(&map, t, (Pos::new(0, 0), Heading::from_index(h0)), |v| avoid.contains(&v), |i, d| {
+            order.push((i, d));
+            Flow::Continue
+        }).unwrap();
+        let want = brute_avoiding(&map, t, (0, usize::from(h0)), &avoid);
+        for v in 0..area {
+            let node = (0..4).filter_map(|k| want[v * 4 + k]).min();
+            prop_assert_eq!(f.dist_at(v), node, "node {:?}", map.bounds().pos(v));
+            prop_assert_eq!(f.first_heading(&map, v), None);
+        }
+        prop_assert!(order.windows(2).all(|p| p[0].1 <= p[1].1));
+        let mut more = 0;
+        f.resume(&map, |_, _| { more += 1; Flow::Continue }).unwrap();
+        prop_assert_eq!(more, 0);
+        prop_assert!(!f.is_search_from(&map, t, Pos::new(0, 0), Heading::from_index(h0)));
+        f.compute(&map, t, Pos::new(0, 0), Heading::from_index(h0), |_, _| Flow::Continue).unwrap();
+        let plain = brute(&map, t, 0, usize::from(h0));
+        for v in 0..area {
+            prop_assert_eq!(f.dist_at(v), (0..4).filter_map(|k| plain[v * 4 + k]).min());
+        }
+    }
 
     /// The reverse field of a node prices every pose as a forward search
     /// from that pose does, settles states cheapest first, each once, and
