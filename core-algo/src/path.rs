@@ -430,13 +430,17 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         if self.start.is_none() {
             return Ok(());
         }
-        self.run::<M, false>(map, |_| true, |v, _, key, first| {
-            if first {
-                reached(v, key)
-            } else {
-                Flow::Continue
-            }
-        })
+        self.run::<M, false>(
+            map,
+            |_| true,
+            |v, _, key, first| {
+                if first {
+                    reached(v, key)
+                } else {
+                    Flow::Continue
+                }
+            },
+        )
     }
 
     /// [`DistField::compute`] that never drives through the nodes `avoid`
@@ -529,11 +533,15 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let result = if stop {
             Ok(())
         } else {
-            self.run::<M, true>(map, |_| true, |v, h, key, _| {
-                let flow = reached(v, Heading::from_index(h as u8), key);
-                stop |= flow == Flow::Stop;
-                flow
-            })
+            self.run::<M, true>(
+                map,
+                |_| true,
+                |v, h, key, _| {
+                    let flow = reached(v, Heading::from_index(h as u8), key);
+                    stop |= flow == Flow::Stop;
+                    flow
+                },
+            )
         };
         self.start = None;
         match result {

@@ -235,9 +235,11 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         if self.rev_open.is_none_or(|(_, r)| r != map.revision()) {
             return Ok(());
         }
-        let result = self.run::<M, true>(map, |_| true, |v, h, key, _| {
-            reached(v, Heading::from_index(h as u8), key)
-        });
+        let result = self.run::<M, true>(
+            map,
+            |_| true,
+            |v, h, key, _| reached(v, Heading::from_index(h as u8), key),
+        );
         if result.is_err() {
             self.refuse();
         }
