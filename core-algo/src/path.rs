@@ -181,6 +181,9 @@ pub struct DistField<S> {
     /// The nodes that [`DistField::passes_any`] memoises answers for, and
     /// the map revision.
     memo: Option<(Vias, u32)>,
+    /// Whether a [`DistField::compute_weighted`] search stands in the
+    /// scratch, whose cells mean something else (see `weighted`).
+    weighted: bool,
 }
 
 impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
@@ -199,6 +202,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             memo: None,
             reverse: None,
             rev_open: None,
+            weighted: false,
         }
     }
 
@@ -268,6 +272,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         self.memo = None;
         self.reverse = None;
         self.rev_open = None;
+        self.weighted = false;
         self.bounds = bounds;
         self.queue = Queues::default();
         self.start = Some((s0, heading));

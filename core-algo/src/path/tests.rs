@@ -336,6 +336,9 @@ proptest! {
         f.resume(&map, |_, _| { more += 1; Flow::Continue }).unwrap();
         prop_assert_eq!(more, 0);
         prop_assert!(!f.is_search_from(&map, t, Pos::new(0, 0), Heading::from_index(h0)));
+        // Nor is it taken for a node-weighted field, which keeps no start
+        // either.
+        prop_assert!((0..area).all(|v| f.weighted_first_heading(v).is_none()));
         f.compute(&map, t, Pos::new(0, 0), Heading::from_index(h0), |_, _| Flow::Continue).unwrap();
         let plain = brute(&map, t, 0, usize::from(h0));
         for v in 0..area {

@@ -151,6 +151,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         // No turn-aware search stands in the scratch now.
         self.start = None;
         self.tree = None;
+        self.weighted = true;
         let bounds = self.bounds;
         // The node → heap-slot index in `ring_b` must start at zero, and the
         // turn-aware searches leave their ring slots behind (they clear only
@@ -210,8 +211,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// with on the cheapest path to node `target`; `None` when `target` is
     /// the start or was not reached.
     pub fn weighted_first_heading(&self, target: usize) -> Option<Heading> {
-        if self.start.is_some() {
-            // A turn-aware search stands in the scratch.
+        if !self.weighted {
+            // A turn-aware search stands in the scratch (a reverse or an
+            // avoiding one keeps no start either).
             return None;
         }
         let cells = self.cells.as_ref();
