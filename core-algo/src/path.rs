@@ -334,23 +334,52 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         timing: Timing,
         start: Pos,
         heading: Heading,
-        mut reached: impl FnMut(usize, Ticks) -> Flow,
+        reached: impl FnMut(usize, Ticks) -> Flow,
     ) -> Result<(), PlanError> {
         self.tree = None;
-        let s0 = self.prepare(map, timing, start, heading)?;
-        let h0 = usize::from(heading.index());
-        self.queue = Queues::default();
-        self.settle(s0, h0, 0);
-        self.queue.pending = Some((s0, h0, 0));
-        if reached(s0, 0) == Flow::Stop {
-            self.tree = Some(map.revision());
-            return Ok(());
-        }
-        let result = self.resume(map, reached);
+        let result = self.search_from(map, timing, (start, heading), |_| true, reached);
         if result.is_ok() {
             self.tree = Some(map.revision());
         }
         result
+    }
+
+    /// The forward search of [`DistField::compute`] and
+    /// [`DistField::compute_avoiding`]: drives on only from the start and
+    /// from nodes for which `passable` holds.
+    fn search_from<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        (start, heading): (Pos, Heading),
+        passable: impl Fn(usize) -> bool,
+        mut reached: impl FnMut(usize, Ticks) -> Flow,
+    ) -> Result<(), PlanError> {
+        let s0 = self.prepare(map, timing, start, heading)?;
+        let h0 = usize::from(heading.index());
+        self.settle(s0, h0, 0);
+        self.queue.pending = Some((s0, h0, 0));
+        if reached(s0, 0) == Flow::Stop {
+            return Ok(());
+        }
+        self.run_forward(map, |v| v == s0 || passable(v), reached)
+    }
+
+    /// [`DistField::run`] from the start, reporting each node once, when
+    /// its first state settles.
+    fn run_forward<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        passable: impl Fn(usize) -> bool,
+        mut reached: impl FnMut(usize, Ticks) -> Flow,
+    ) -> Result<(), PlanError> {
+        self.run::<M, false>(map, passable, |v, _, key, first| {
+            if first {
+                reached(v, key)
+            } else {
+                Flow::Continue
+            }
+        })
     }
 
     /// [`DistField::compute`] grown only until node `goal` is reached (or
@@ -430,22 +459,12 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     pub fn resume<M: AsRef<[Block]> + AsMut<[Block]>>(
         &mut self,
         map: &KnownMap<M>,
-        mut reached: impl FnMut(usize, Ticks) -> Flow,
+        reached: impl FnMut(usize, Ticks) -> Flow,
     ) -> Result<(), PlanError> {
         if self.start.is_none() {
             return Ok(());
         }
-        self.run::<M, false>(
-            map,
-            |_| true,
-            |v, _, key, first| {
-                if first {
-                    reached(v, key)
-                } else {
-                    Flow::Continue
-                }
-            },
-        )
+        self.run_forward(map, |_| true, reached)
     }
 
     /// [`DistField::compute`] that never drives through the nodes `avoid`
@@ -461,27 +480,12 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         &mut self,
         map: &KnownMap<M>,
         timing: Timing,
-        (start, heading): (Pos, Heading),
+        pose: (Pos, Heading),
         avoid: impl Fn(usize) -> bool,
-        mut reached: impl FnMut(usize, Ticks) -> Flow,
+        reached: impl FnMut(usize, Ticks) -> Flow,
     ) -> Result<(), PlanError> {
         self.tree = None;
-        let s0 = self.prepare(map, timing, start, heading)?;
-        let h0 = usize::from(heading.index());
-        self.settle(s0, h0, 0);
-        self.queue.pending = Some((s0, h0, 0));
-        let result = if reached(s0, 0) == Flow::Stop {
-            Ok(())
-        } else {
-            let passable = |v: usize| v == s0 || !avoid(v);
-            self.run::<M, false>(map, passable, |v, _, key, first| {
-                if first {
-                    reached(v, key)
-                } else {
-                    Flow::Continue
-                }
-            })
-        };
+        let result = self.search_from(map, timing, pose, |v| !avoid(v), reached);
         // A resume would go on without `avoid`.
         self.queue = Queues::default();
         self.start = None;
