@@ -509,8 +509,9 @@ where
 /// announcing it or, with `far.1`, standing near it). They are left out
 /// of the deciding robot's assignment (bit j: robot j), their shares with
 /// them, and their fields are not searched: robots on a long way to work
-/// cost most to search and, keeping their shares, would not change. Never in the endgame (fewer frontier nodes than robots), where
-/// the reverse searches look for every robot.
+/// cost most to search and, keeping their shares, would not change. Never
+/// in the endgame (fewer frontier nodes than robots), where the reverse
+/// searches look for every robot.
 fn keeping_far<M>(
     ctx: &Context<'_, M>,
     far: (u32, u32),

@@ -66,26 +66,8 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
             // The values of the fields left out: off (a tie-break team of
             // u32::MAX: no team breaks ties), but no team limit on
             // trailing, and keep share and corridor keeps share on.
-            let mut x: [u32; 18] = [
-                0,
-                0,
-                0,
-                0,
-                0,
-                0,
-                0,
-                u32::MAX,
-                1,
-                0,
-                0,
-                1,
-                u32::MAX,
-                0,
-                4,
-                0,
-                6,
-                0,
-            ];
+            #[rustfmt::skip]
+            let mut x: [u32; 18] = [0, 0, 0, 0, 0, 0, 0, u32::MAX, 1, 0, 0, 1, u32::MAX, 0, 4, 0, 6, 0];
             if !(5..=x.len()).contains(&v.len()) {
                 return None;
             }
