@@ -107,16 +107,17 @@ pub fn neighbour_index(bounds: Bounds, i: usize, h: Heading) -> Option<usize> {
         return None;
     }
     // Windows hold fewer than 2^32 nodes (a u16 square): a 32-bit
-    // remainder is exact and much cheaper than a 64-bit one.
-    let x = (i as u32) % u32::from(bounds.width);
+    // remainder is exact and much cheaper than a 64-bit one, and only a
+    // step east or west needs it.
+    let x = || (i as u32) % u32::from(bounds.width);
     match h {
         Heading::North => {
             let j = i + w;
             (j < bounds.area()).then_some(j)
         }
         Heading::South => i.checked_sub(w),
-        Heading::East => (x + 1 < u32::from(bounds.width)).then_some(i + 1),
-        Heading::West => (x > 0).then(|| i - 1),
+        Heading::East => (x() + 1 < u32::from(bounds.width)).then_some(i + 1),
+        Heading::West => (x() > 0).then(|| i - 1),
     }
 }
 
@@ -130,6 +131,26 @@ pub fn arms_at<M: AsRef<[Block]> + AsMut<[Block]>>(map: &KnownMap<M>, i: usize) 
 #[inline]
 fn wrap(i: usize, cap: usize) -> usize {
     if i >= cap { i - cap } else { i }
+}
+
+/// Moves a node's distance down to `key`, below its settled states.
+///
+/// Only A* with a heuristic that differs between a node's headings
+/// (`astar_by_landmark`) settles a cheaper heading after a dearer one: the
+/// node's distance moves down to it and the settled offsets up (still
+/// within a U-turn, so within a byte). Tentative offsets of unsettled
+/// headings only spare A* duplicate heap entries; they are dropped.
+#[cold]
+fn lower_base(c: &mut PlanCell, key: Ticks) {
+    let shift = (c.base & DIST_MASK) - key;
+    for (k, o) in c.off.iter_mut().enumerate() {
+        *o = if c.base & (1 << (SETTLED_SHIFT + k as u32)) != 0 {
+            (u32::from(*o) + shift).min(u32::from(NO_OFF - 1)) as u8
+        } else {
+            NO_OFF
+        };
+    }
+    c.base = (c.base & !DIST_MASK) | key;
 }
 
 /// The timing a search runs with: no free edges, turns within what a
@@ -284,43 +305,27 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// Settles state (`i`, `h`) at `key`; returns whether it was the node's
     /// first settled state (then `key` is the node's distance), or `None` if
     /// the state was settled already.
+    #[inline]
     fn settle(&mut self, i: usize, h: usize, key: Ticks) -> Option<bool> {
         let c = self.cells.as_mut().get_mut(i)?;
-        if c.settled(h) {
+        let h = h & 3;
+        let bit = 1 << (SETTLED_SHIFT + h as u32);
+        if c.base & bit != 0 {
             return None;
         }
         self.dirty.add(i, key);
-        let first = match c.dist() {
-            None => {
-                c.base = key & DIST_MASK;
-                true
-            }
-            Some(_) => false,
-        };
-        let mut base = c.base & DIST_MASK;
-        if key < base {
-            // Only A* with a heuristic that differs between a node's
-            // headings (`astar_by_landmark`) settles a cheaper heading
-            // after a dearer one: the node's distance moves down to it and
-            // the settled offsets up (still within a U-turn, so within a
-            // byte). Tentative offsets of unsettled headings only spare
-            // A* duplicate heap entries; they are dropped.
-            let shift = base - key;
-            for (k, o) in c.off.iter_mut().enumerate() {
-                *o = if c.base & (1 << (SETTLED_SHIFT + k as u32)) != 0 {
-                    (u32::from(*o) + shift).min(u32::from(NO_OFF - 1)) as u8
-                } else {
-                    NO_OFF
-                };
-            }
-            c.base = (c.base & !DIST_MASK) | key;
-            base = key;
+        let dist = c.base & DIST_MASK;
+        let first = dist == DIST_MASK;
+        if first {
+            c.base = key & DIST_MASK;
+        } else if key < dist {
+            lower_base(c, key);
         }
-        let off = key.saturating_sub(base).min(u32::from(NO_OFF - 1)) as u8;
-        if let Some(o) = c.off.get_mut(h) {
-            *o = off;
-        }
-        c.base |= 1 << (SETTLED_SHIFT + h as u32);
+        let off = key
+            .saturating_sub(c.base & DIST_MASK)
+            .min(u32::from(NO_OFF - 1)) as u8;
+        c.off[h] = off;
+        c.base |= bit;
         Some(first)
     }
 
@@ -591,6 +596,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             mut b_len,
             mut pending,
         } = self.queue;
+        // The queues' heads as (entry, key), read once per head.
+        let mut head_a: Option<(usize, Ticks)> = None;
+        let mut head_b: Option<(usize, Ticks)> = None;
         let result = (|| {
             loop {
                 if let Some((v, h, d)) = pending.take() {
@@ -627,19 +635,23 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                             }
                         }
                     }
-                    for (dir, h2) in [(0usize, (h + 1) & 3), (1, (h + 3) & 3)] {
-                        let Some(cv) = cells.get_mut(v) else { continue };
-                        let off = u32::from(cv.off.get(h).copied().unwrap_or(0)) + t.quarter_turn;
-                        if cv.settled(h2) || off >= u32::from(NO_OFF) {
+                    // Quarter turns either way, where they improve on the
+                    // heading's tentative offset.
+                    let Some(cv) = cells.get_mut(v) else { continue };
+                    let turned = u32::from(cv.off[h & 3]) + t.quarter_turn;
+                    let mut improved = [false; 2];
+                    if turned < u32::from(NO_OFF) {
+                        for (dir, h2) in [(0usize, (h + 1) & 3), (1, (h + 3) & 3)] {
+                            if !cv.settled(h2) && (turned as u8) < cv.off[h2] {
+                                cv.off[h2] = turned as u8;
+                                improved[dir] = true;
+                            }
+                        }
+                    }
+                    for (dir, up) in [(0usize, improved[0]), (1, improved[1])] {
+                        if !up {
                             continue;
                         }
-                        let Some(o) = cv.off.get_mut(h2) else {
-                            continue;
-                        };
-                        if off as u8 >= *o {
-                            continue;
-                        }
-                        *o = off as u8;
                         if b_len == cap {
                             return Err(PlanError::QueueFull);
                         }
@@ -658,28 +670,29 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                 let key_of = |state: usize| -> Option<Ticks> {
                     cells.get(state / 4).and_then(|c| c.pose_dist(state % 4))
                 };
-                let a = if a_len > 0 {
-                    cells
+                // A head's key stays what it was until that head is popped
+                // (its source state is settled, so final): read each head
+                // once, not at every pop of the other queue.
+                if head_a.is_none() && a_len > 0 {
+                    head_a = cells
                         .get(a_head)
                         .map(|c| c.ring_a as usize)
-                        .and_then(|s| Some((s, key_of(s)? + t.edge)))
-                } else {
-                    None
-                };
-                let b = if b_len > 0 {
-                    cells
+                        .and_then(|s| Some((s, key_of(s)? + t.edge)));
+                }
+                if head_b.is_none() && b_len > 0 {
+                    head_b = cells
                         .get(b_head)
                         .map(|c| c.ring_b as usize)
-                        .and_then(|e| Some((e, key_of(e / 2)? + t.quarter_turn)))
-                } else {
-                    None
-                };
+                        .and_then(|e| Some((e, key_of(e / 2)? + t.quarter_turn)));
+                }
+                let (a, b) = (head_a, head_b);
                 let take_a = match (a, b) {
                     (Some((_, ka)), Some((_, kb))) => ka <= kb,
                     (Some(_), None) => true,
                     (None, Some(_)) => false,
                     (None, None) => {
                         // Corrupt entries: drop them rather than loop forever.
+                        (head_a, head_b) = (None, None);
                         a_len = a_len.saturating_sub(1);
                         b_len = b_len.saturating_sub(1);
                         a_head = wrap(a_head + 1, cap);
@@ -688,6 +701,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                     }
                 };
                 let (v, h, key) = if take_a {
+                    head_a = None;
                     a_head = wrap(a_head + 1, cap);
                     a_len -= 1;
                     let Some((s, key)) = a else { continue };
@@ -699,6 +713,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                     };
                     (w, h, key)
                 } else {
+                    head_b = None;
                     b_head = wrap(b_head + 1, cap);
                     b_len -= 1;
                     let Some((e, key)) = b else { continue };

@@ -114,6 +114,7 @@ impl Dirty {
     }
 
     /// Index `i` settled at distance `key`.
+    #[inline]
     pub(super) fn add(&mut self, i: usize, key: Ticks) {
         if self.lo >= self.hi {
             self.lo = i;
