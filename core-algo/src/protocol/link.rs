@@ -440,7 +440,9 @@ impl Link {
             peer_session: self.peer_session,
             seq: self.next_seq,
             ack: self.rx_next,
-            sack: self.sack(),
+            // Filled in below, once there is a frame to send: most polls
+            // have none, and the bits take a scan of the window.
+            sack: 0,
         };
         let body = if !self.peer_synced
             && self
@@ -474,6 +476,7 @@ impl Link {
         } else {
             return None;
         };
+        header.sack = self.sack();
         let n = Frame { header, body }.encode(out).ok()?;
         self.ack_due = false;
         self.last_tx = Some(now);
