@@ -619,7 +619,11 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                         let Some(arms) = arms_at(map, v).filter(|_| passable(v)) else {
                             continue;
                         };
-                        (neighbour_index(bounds, v, heading), arms.has(heading))
+                        let ok = arms.has(heading);
+                        (
+                            ok.then(|| neighbour_index(bounds, v, heading)).flatten(),
+                            ok,
+                        )
                     };
                     let cells = self.cells.as_mut();
                     if arms_ok && d + t.edge <= MAX_DIST {
