@@ -407,7 +407,8 @@ where
         // Lazy picks are proved by the min-sum duals; the return-aware
         // endgame changes the costs after collecting, so it needs them all.
         let lazy = !cfg.endgame_return && k > cfg.eager_team;
-        let Some(mut c) = Candidates::cheapest(
+        let mut c = Candidates::empty(k);
+        let planned = Candidates::cheapest(
             ctx,
             fields,
             k,
@@ -416,13 +417,14 @@ where
             cost,
             floor,
             bound,
-        )?
-        else {
+            &mut c,
+        )?;
+        if !planned {
             return match fields.first_mut() {
                 Some(f) => nearest_or_home(ctx, f),
                 None => Ok(Decision::STAY),
             };
-        };
+        }
         if c.m == 0 {
             return match fields.get_mut(me) {
                 Some(f) => go_home(ctx, f),

@@ -21,9 +21,9 @@ impl Candidates {
     /// `bound(j, node)`, a lower bound of its cost for the node, could beat
     /// the m-th cheapest robot found for some node so far, and only as far
     /// as that could still happen. Rows of robots never searched are
-    /// forbidden. `None` when the deciding robot cannot reach every
-    /// frontier node (team mates in another part of the graph might): then
-    /// the nodes it finds are not all the columns.
+    /// forbidden. The matrix is written into `c`; `false` when the deciding
+    /// robot cannot reach every frontier node (team mates in another part
+    /// of the graph might): then the nodes it finds are not all the columns.
     ///
     /// With `reverse`, each frontier node's m cheapest robots come from one
     /// reverse search instead (see [`Candidates::reverse_columns`]): the same
@@ -31,7 +31,7 @@ impl Candidates {
     /// several assignments cost the same the Hungarian may pick another one.
     /// Tempo uses it where its tie-break makes the optimum unique. Its
     /// columns are read off the map, so it searches no field of the
-    /// deciding robot's and never returns `None` for want of one: the
+    /// deciding robot's and never returns `false` for want of one: the
     /// caller searches as far as the node it gets.
     pub(super) fn endgame<M, F>(
         ctx: &Context<'_, M>,
@@ -40,13 +40,14 @@ impl Candidates {
         mut cost: impl FnMut(usize, usize, Ticks) -> Option<i64>,
         mut floor: impl FnMut(usize, Ticks) -> i64,
         mut bound: impl FnMut(usize, usize) -> i64,
-    ) -> Result<Option<Candidates>, PlanError>
+        c: &mut Candidates,
+    ) -> Result<bool, PlanError>
     where
         M: AsRef<[Block]> + AsMut<[Block]>,
         F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
     {
         let (map, k, me) = (ctx.map, ctx.robots.len(), ctx.me);
-        let mut c = Candidates::empty(k);
+        c.clear(k);
         if reverse {
             // Every frontier node is a column, read off the map: the
             // reverse searches find each one's robots, ours too, and a
@@ -62,10 +63,10 @@ impl Candidates {
                     c.m += 1;
                 }
             }
-            return Ok(c.reverse_columns(ctx, fields, &mut cost)?.then_some(c));
+            return c.reverse_columns(ctx, fields, &mut cost);
         }
         let (Some(r), Some(field)) = (ctx.robots.get(me), fields.get_mut(me)) else {
-            return Ok(None);
+            return Ok(false);
         };
         let mut unseen = map.frontier_len();
         field.compute(map, ctx.timing, r.pos, r.heading, |i, _| {
@@ -83,7 +84,7 @@ impl Candidates {
             }
         })?;
         if unseen > 0 {
-            return Ok(None);
+            return Ok(false);
         }
         let m = c.m;
         // A second lower bound, from every field searched so far (see
@@ -94,7 +95,7 @@ impl Candidates {
         // fields per decision).
         let mut near = [[i64::MIN; MAX_ROBOTS]; MAX_ROBOTS];
         let u_turn = 2 * field.timing().quarter_turn;
-        learn(&mut near, ctx, &c, field, u_turn, &mut cost);
+        learn(&mut near, ctx, c, field, u_turn, &mut cost);
         let mut bound =
             |near: &[[i64; MAX_ROBOTS]; MAX_ROBOTS], j: usize, col: usize, node: usize| {
                 let by_field = near.get(j).and_then(|r| r.get(col)).copied();
@@ -117,10 +118,10 @@ impl Candidates {
         };
         if let (Some(s), Some(field)) = (searched.get_mut(me), fields.get(me)) {
             *s = true;
-            fill(&mut c, me, field, &mut cost);
+            fill(c, me, field, &mut cost);
         }
         if m == 0 {
-            return Ok(Some(c));
+            return Ok(true);
         }
         // The m-th cheapest searched robot of column `col`: a robot that
         // cannot beat it is not needed there.
@@ -144,7 +145,7 @@ impl Candidates {
             let mut limit: Option<i64> = None;
             for col in 0..m {
                 let node = c.nodes.get(col).copied().unwrap_or(usize::MAX);
-                let t = threshold(&c, col);
+                let t = threshold(c, col);
                 if bound(&near, j, col, node) < t {
                     limit = Some(limit.map_or(t, |l: i64| l.max(t)));
                 }
@@ -171,10 +172,10 @@ impl Candidates {
             if let Some(s) = searched.get_mut(j) {
                 *s = true;
             }
-            fill(&mut c, j, field, &mut cost);
-            learn(&mut near, ctx, &c, field, u_turn, &mut cost);
+            fill(c, j, field, &mut cost);
+            learn(&mut near, ctx, c, field, u_turn, &mut cost);
         }
-        Ok(Some(c))
+        Ok(true)
     }
 
     /// The `n`-th cheapest cost in column `col` (`INF` if fewer robots have

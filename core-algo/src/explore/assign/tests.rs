@@ -125,7 +125,8 @@ proptest! {
         };
         let field = || DistField::new(vec![PlanCell::EMPTY; min_cells(area)]);
         let mut fields: Vec<_> = (0..k).map(|_| field()).collect();
-        let c = Candidates::cheapest(&ctx, &mut fields, k, 0, (lazy, reverse, left_out), cost, floor, bound).unwrap().unwrap();
+        let mut c = Candidates::empty(k);
+        prop_assert!(Candidates::cheapest(&ctx, &mut fields, k, 0, (lazy, reverse, left_out), cost, floor, bound, &mut c).unwrap());
         let (full, best) = full_costs(&map, timing, &robots, cost);
         prop_assume!(best.is_some());
         let cols = hungarian_cols(&c, AssignmentObjective::MinSum);
@@ -199,6 +200,9 @@ proptest! {
             rnd
         };
         let mut robots: Vec<RobotView> = Vec::new();
+        // One matrix for every step, as a decision reuses it: what an
+        // earlier step wrote must not leak into a later one.
+        let mut c = Candidates::empty(k);
         for step in 0..steps {
             if map.is_complete() {
                 break;
@@ -232,9 +236,9 @@ proptest! {
                 i64::from(d) + i64::from(r.eta) - by_travel.min(by_extent)
             };
             let bound = |_: usize, _: usize| i64::MIN;
-            let c = Candidates::cheapest(&ctx, &mut fields, k, 0, (false, true, 0), cost, floor, bound)
-                .unwrap()
-                .unwrap();
+            prop_assert!(
+                Candidates::cheapest(&ctx, &mut fields, k, 0, (false, true, 0), cost, floor, bound, &mut c).unwrap()
+            );
             let (full, best) = full_costs(&map, timing, &robots, cost);
             prop_assume!(best.is_some());
             let got = total(&hungarian_cols(&c, AssignmentObjective::MinSum), &c.nodes, &full);
