@@ -289,7 +289,7 @@ where
         let through = kept.unwrap_or_else(|| {
             field.compute_to(map, timing, pos, heading, home).is_ok()
                 && field.dist_at(home).is_some()
-                && settled.iter().any(|&s| field.path_passes(map, home, s))
+                && field.path_passes_any(map, home, &settled)
         });
         if !through {
             return decision;
@@ -528,7 +528,9 @@ where
                 let Some(v) = spot.filter(|_| result.is_ok()) else {
                     break result;
                 };
-                let trapped = earlier.iter().any(|&h| mine.path_passes(map, v, h));
+                // One walk back for all those homes (in a 16-robot maze a
+                // walk per home was a seventh of the run).
+                let trapped = mine.path_passes_any(map, v, &earlier);
                 if !trapped {
                     break result;
                 }
@@ -627,14 +629,13 @@ where
             let Some(v) = spot.filter(|_| computed.is_ok()) else {
                 return Decision::STAY;
             };
-            let through_mate = peers.iter().enumerate().any(|(i, q)| {
-                i != me
-                    && q.known
-                    && !q.failed
-                    && bounds
-                        .index(q.pos)
-                        .is_some_and(|at| mine.path_passes(map, v, at))
-            });
+            let places: Vec<usize, MAX_ROBOTS> = peers
+                .iter()
+                .enumerate()
+                .filter(|(i, q)| *i != me && q.known && !q.failed)
+                .filter_map(|(_, q)| bounds.index(q.pos))
+                .collect();
+            let through_mate = mine.path_passes_any(map, v, &places);
             if !through_mate || unreachable.push(v).is_err() {
                 return Decision {
                     goal: Goal::Home,
