@@ -278,11 +278,7 @@ where
             .fields
             .iter()
             .find(|f| f.is_reverse_to(map, timing, self.home))
-            .map(|f| {
-                settled
-                    .iter()
-                    .any(|&s| f.descent_passes(map, at, heading, s))
-            });
+            .map(|f| f.descent_passes_any(map, at, heading, &settled));
         let Some(field) = self.fields.first_mut() else {
             return decision;
         };

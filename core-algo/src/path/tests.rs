@@ -665,12 +665,19 @@ proptest! {
         for (x, &p) in walked.iter().enumerate() {
             prop_assert_eq!(p, way.contains(&x) && (v == g), "node {}", x);
         }
+        // One walk for several nodes answers as the walks for each do.
+        for n in 0..area.min(8) {
+            let vias: Vec<usize> = (0..area).filter(|x| (x + n + seed as usize) % 5 == 0).take(n).collect();
+            let each = vias.iter().any(|&x| walked[x]);
+            prop_assert_eq!(r.descent_passes_any(&map, v0, h0, &vias), each, "vias {:?}", vias);
+        }
         // The first node found along the way is the first of the walk.
         let first = way.iter().copied().find(|&x| x % 3 == seed as usize % 3);
         prop_assert_eq!(r.descent_find(&map, v0, h0, |x| x % 3 == seed as usize % 3), first);
         r.mark_descent(&map, v0, h0);
         for (x, &p) in walked.iter().enumerate() {
             prop_assert_eq!(r.descent_passes(&map, v0, h0, x), p);
+            prop_assert_eq!(r.descent_passes_any(&map, v0, h0, &[x]), p);
         }
         // Marks slid a few steps along the way (a team mate drove on)
         // answer as a fresh walk from there does.
