@@ -475,12 +475,13 @@ where
         // nobody's place, so that we are close when our turn comes: robots
         // waiting wherever they stood would come home one long trip after
         // another. Then drive there (or stay, if here).
-        let occupied = |v: usize| {
-            peers
-                .iter()
-                .enumerate()
-                .any(|(i, q)| i != me && q.known && !q.failed && bounds.index(q.pos) == Some(v))
-        };
+        let places: Vec<usize, MAX_ROBOTS> = peers
+            .iter()
+            .enumerate()
+            .filter(|(i, q)| *i != me && q.known && !q.failed)
+            .filter_map(|(_, q)| bounds.index(q.pos))
+            .collect();
+        let occupied = |v: usize| places.contains(&v);
         // A spot whose way home passes the home of a robot that goes first
         // is a trap: once that robot is in, we could not get out.
         let earlier: Vec<usize, MAX_ROBOTS> = peers
@@ -625,12 +626,6 @@ where
             let Some(v) = spot.filter(|_| computed.is_ok()) else {
                 return Decision::STAY;
             };
-            let places: Vec<usize, MAX_ROBOTS> = peers
-                .iter()
-                .enumerate()
-                .filter(|(i, q)| *i != me && q.known && !q.failed)
-                .filter_map(|(_, q)| bounds.index(q.pos))
-                .collect();
             let through_mate = mine.path_passes_any(map, v, &places);
             if !through_mate || unreachable.push(v).is_err() {
                 return Decision {
