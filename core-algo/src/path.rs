@@ -142,7 +142,7 @@ fn wrap(i: usize, cap: usize) -> usize {
 /// headings only spare A* duplicate heap entries; they are dropped.
 #[cold]
 fn lower_base(c: &mut PlanCell, key: Ticks) {
-    let shift = (c.base & DIST_MASK) - key;
+    let shift = (c.base & DIST_MASK).saturating_sub(key);
     for (k, o) in c.off.iter_mut().enumerate() {
         *o = if c.base & (1 << (SETTLED_SHIFT + k as u32)) != 0 {
             (u32::from(*o) + shift).min(u32::from(NO_OFF - 1)) as u8
