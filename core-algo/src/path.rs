@@ -302,31 +302,10 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         Ok(s0)
     }
 
-    /// Settles state (`i`, `h`) at `key`; returns whether it was the node's
-    /// first settled state (then `key` is the node's distance), or `None` if
-    /// the state was settled already.
+    /// Settles state (`i`, `h`) at `key`; see [`settle_in`].
     #[inline]
     fn settle(&mut self, i: usize, h: usize, key: Ticks) -> Option<bool> {
-        let c = self.cells.as_mut().get_mut(i)?;
-        let h = h & 3;
-        let bit = 1 << (SETTLED_SHIFT + h as u32);
-        if c.base & bit != 0 {
-            return None;
-        }
-        self.dirty.add(i, key);
-        let dist = c.base & DIST_MASK;
-        let first = dist == DIST_MASK;
-        if first {
-            c.base = key & DIST_MASK;
-        } else if key < dist {
-            lower_base(c, key);
-        }
-        let off = key
-            .saturating_sub(c.base & DIST_MASK)
-            .min(u32::from(NO_OFF - 1)) as u8;
-        c.off[h] = off;
-        c.base |= bit;
-        Some(first)
+        settle_in(self.cells.as_mut(), &mut self.dirty, i, h, key)
     }
 
     /// Computes the field from the pose (`start`, `heading`) over `map`,
@@ -575,6 +554,12 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// goal, each edge driven backwards). `settled(node, heading, key,
     /// first)` sees every settled state; `first` marks the node's first.
     /// Forward searches drive on from a node only if `passable(node)`.
+    ///
+    /// Everything the loop touches at every state (the queues, the dirty
+    /// box, the heads' keys) lives in locals, written back once: as fields
+    /// behind `&mut self` they were stored and reloaded at every state,
+    /// 13 % more instructions for a full field on open and maze 256²
+    /// (docs/results/performance.md, stop 38).
     fn run<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool>(
         &mut self,
         map: &KnownMap<M>,
@@ -588,161 +573,204 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         }
         let t = self.timing;
         let bounds = self.bounds;
-        let cap = self.cells.as_ref().len();
-        let Queues {
-            mut a_head,
-            mut a_len,
-            mut b_head,
-            mut b_len,
-            mut pending,
-        } = self.queue;
-        // The queues' heads as (entry, key), read once per head.
-        let mut head_a: Option<(usize, Ticks)> = None;
-        let mut head_b: Option<(usize, Ticks)> = None;
-        let result = (|| {
-            loop {
-                if let Some((v, h, d)) = pending.take() {
-                    // Expand the settled state (v, h) at distance d.
-                    let heading = Heading::from_index(h as u8);
-                    // Forward: drive on from v, if v is passable. Reverse:
-                    // the state (w, h) one edge back, if w is passable and
-                    // has the arm; every node a reverse search settles
-                    // (but the goal, whose states are all settled at 0) was
-                    // entered that way, so it is passable and may turn.
-                    let (drive, arms_ok) = if REV {
-                        let w = neighbour_index(bounds, v, heading.opposite());
-                        let ok = w
-                            .and_then(|w| arms_at(map, w))
-                            .is_some_and(|a| a.has(heading));
-                        (w, ok)
-                    } else {
-                        let Some(arms) = arms_at(map, v).filter(|_| passable(v)) else {
-                            continue;
-                        };
-                        let ok = arms.has(heading);
-                        (
-                            ok.then(|| neighbour_index(bounds, v, heading)).flatten(),
-                            ok,
-                        )
-                    };
-                    let cells = self.cells.as_mut();
-                    if arms_ok && d + t.edge <= MAX_DIST {
-                        if let Some(w) = drive {
-                            if !cells.get(w).is_some_and(|c| c.settled(h)) {
-                                if a_len == cap {
-                                    return Err(PlanError::QueueFull);
-                                }
-                                if let Some(c) = cells.get_mut(wrap(a_head + a_len, cap)) {
-                                    c.ring_a = (v * 4 + h) as u32;
-                                }
-                                a_len += 1;
-                            }
-                        }
-                    }
-                    // Quarter turns either way, where they improve on the
-                    // heading's tentative offset.
-                    let Some(cv) = cells.get_mut(v) else { continue };
-                    let turned = u32::from(cv.off[h & 3]) + t.quarter_turn;
-                    let mut improved = [false; 2];
-                    if turned < u32::from(NO_OFF) {
-                        for (dir, h2) in [(0usize, (h + 1) & 3), (1, (h + 3) & 3)] {
-                            if !cv.settled(h2) && (turned as u8) < cv.off[h2] {
-                                cv.off[h2] = turned as u8;
-                                improved[dir] = true;
-                            }
-                        }
-                    }
-                    for (dir, up) in [(0usize, improved[0]), (1, improved[1])] {
-                        if !up {
-                            continue;
-                        }
-                        if b_len == cap {
-                            return Err(PlanError::QueueFull);
-                        }
-                        let entry = ((v * 4 + h) * 2 + dir) as u32;
-                        if let Some(c) = cells.get_mut(wrap(b_head + b_len, cap)) {
-                            c.ring_b = entry;
-                        }
-                        b_len += 1;
-                    }
-                    continue;
-                }
-                if a_len == 0 && b_len == 0 {
-                    return Ok(());
-                }
-                let cells = self.cells.as_ref();
-                let key_of = |state: usize| -> Option<Ticks> {
-                    cells.get(state / 4).and_then(|c| c.pose_dist(state % 4))
-                };
-                // A head's key stays what it was until that head is popped
-                // (its source state is settled, so final): read each head
-                // once, not at every pop of the other queue.
-                if head_a.is_none() && a_len > 0 {
-                    head_a = cells
-                        .get(a_head)
-                        .map(|c| c.ring_a as usize)
-                        .and_then(|s| Some((s, key_of(s)? + t.edge)));
-                }
-                if head_b.is_none() && b_len > 0 {
-                    head_b = cells
-                        .get(b_head)
-                        .map(|c| c.ring_b as usize)
-                        .and_then(|e| Some((e, key_of(e / 2)? + t.quarter_turn)));
-                }
-                let (a, b) = (head_a, head_b);
-                let take_a = match (a, b) {
-                    (Some((_, ka)), Some((_, kb))) => ka <= kb,
-                    (Some(_), None) => true,
-                    (None, Some(_)) => false,
-                    (None, None) => {
-                        // Corrupt entries: drop them rather than loop forever.
-                        (head_a, head_b) = (None, None);
-                        a_len = a_len.saturating_sub(1);
-                        b_len = b_len.saturating_sub(1);
-                        a_head = wrap(a_head + 1, cap);
-                        b_head = wrap(b_head + 1, cap);
-                        continue;
-                    }
-                };
-                let (v, h, key) = if take_a {
-                    head_a = None;
-                    a_head = wrap(a_head + 1, cap);
-                    a_len -= 1;
-                    let Some((s, key)) = a else { continue };
-                    let h = s % 4;
-                    let toward = Heading::from_index(h as u8);
-                    let toward = if REV { toward.opposite() } else { toward };
-                    let Some(w) = neighbour_index(bounds, s / 4, toward) else {
-                        continue;
-                    };
-                    (w, h, key)
-                } else {
-                    head_b = None;
-                    b_head = wrap(b_head + 1, cap);
-                    b_len -= 1;
-                    let Some((e, key)) = b else { continue };
-                    let s = e / 2;
-                    let h2 = if e % 2 == 0 { (s + 1) & 3 } else { (s + 3) & 3 };
-                    (s / 4, h2, key)
-                };
-                let Some(first) = self.settle(v, h, key) else {
-                    continue;
-                };
-                pending = Some((v, h, key));
-                if settled(v, h, key, first) == Flow::Stop {
-                    return Ok(());
+        let mut q = self.queue;
+        let mut dirty = self.dirty;
+        let cells = self.cells.as_mut();
+        let cap = cells.len();
+        let key_of = |cells: &[PlanCell], state: usize| -> Option<Ticks> {
+            cells.get(state / 4).and_then(|c| c.pose_dist(state % 4))
+        };
+        // The queues' heads as (entry, key), read once per head: a head's
+        // key stays what it was until that head is popped (its source
+        // state is settled, so final). `NO_KEY`: not read yet.
+        let (mut entry_a, mut key_a) = (0usize, NO_KEY);
+        let (mut entry_b, mut key_b) = (0usize, NO_KEY);
+        let result = loop {
+            if let Some(state) = q.pending.take() {
+                if let Err(e) = expand::<M, REV>(cells, &mut q, map, (bounds, t), &passable, state)
+                {
+                    break Err(e);
                 }
             }
-        })();
-        self.queue = Queues {
-            a_head,
-            a_len,
-            b_head,
-            b_len,
-            pending,
+            if key_a == NO_KEY && q.a_len > 0 {
+                entry_a = cells
+                    .get(q.a_head)
+                    .map_or(usize::MAX, |c| c.ring_a as usize);
+                match key_of(cells, entry_a) {
+                    Some(k) => key_a = k + t.edge,
+                    None => {
+                        // A corrupt entry: drop it rather than loop forever.
+                        q.a_head = wrap(q.a_head + 1, cap);
+                        q.a_len -= 1;
+                        continue;
+                    }
+                }
+            }
+            if key_b == NO_KEY && q.b_len > 0 {
+                entry_b = cells
+                    .get(q.b_head)
+                    .map_or(usize::MAX, |c| c.ring_b as usize);
+                match key_of(cells, entry_b / 2) {
+                    Some(k) => key_b = k + t.quarter_turn,
+                    None => {
+                        q.b_head = wrap(q.b_head + 1, cap);
+                        q.b_len -= 1;
+                        continue;
+                    }
+                }
+            }
+            if key_a == NO_KEY && key_b == NO_KEY {
+                break Ok(());
+            }
+            // Ties go to the edge queue.
+            let (v, h, key) = if key_a <= key_b {
+                let key = key_a;
+                key_a = NO_KEY;
+                q.a_head = wrap(q.a_head + 1, cap);
+                q.a_len -= 1;
+                let s = entry_a;
+                let h = s % 4;
+                let toward = if REV { (h + 2) & 3 } else { h };
+                let Some(w) = neighbour_index(bounds, s / 4, Heading::from_index(toward as u8))
+                else {
+                    continue;
+                };
+                (w, h, key)
+            } else {
+                let key = key_b;
+                key_b = NO_KEY;
+                q.b_head = wrap(q.b_head + 1, cap);
+                q.b_len -= 1;
+                let s = entry_b / 2;
+                let h2 = if entry_b % 2 == 0 {
+                    (s + 1) & 3
+                } else {
+                    (s + 3) & 3
+                };
+                (s / 4, h2, key)
+            };
+            let Some(first) = settle_in(cells, &mut dirty, v, h, key) else {
+                continue;
+            };
+            q.pending = Some((v, h, key));
+            if settled(v, h, key, first) == Flow::Stop {
+                break Ok(());
+            }
         };
+        self.queue = q;
+        self.dirty = dirty;
         result
     }
+}
+
+/// A queue head whose key is not read yet (above every real key).
+const NO_KEY: Ticks = Ticks::MAX;
+
+/// Expands the settled state (`v`, `h`) at distance `d` for
+/// [`DistField::run`]: the edge on (forward: from `v` if it is passable
+/// and has the arm; reverse: the state one edge back, if that node has
+/// the arm) into the edge ring, and quarter turns either way that improve
+/// on a heading's tentative offset into the turn ring. Every node a
+/// reverse search settles (but the goal, whose states are all settled at
+/// 0) was entered along an edge, so it is passable and may turn.
+#[inline(always)]
+fn expand<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool>(
+    cells: &mut [PlanCell],
+    q: &mut Queues,
+    map: &KnownMap<M>,
+    (bounds, t): (Bounds, Timing),
+    passable: &impl Fn(usize) -> bool,
+    (v, h, d): (usize, usize, Ticks),
+) -> Result<(), PlanError> {
+    let cap = cells.len();
+    let heading = Heading::from_index(h as u8);
+    let drive = if REV {
+        neighbour_index(bounds, v, heading.opposite())
+            .filter(|&w| arms_at(map, w).is_some_and(|a| a.has(heading)))
+    } else {
+        match arms_at(map, v) {
+            Some(arms) if passable(v) => {
+                if arms.has(heading) {
+                    neighbour_index(bounds, v, heading)
+                } else {
+                    None
+                }
+            }
+            _ => return Ok(()),
+        }
+    };
+    if let Some(w) = drive.filter(|_| d + t.edge <= MAX_DIST) {
+        if !cells.get(w).is_some_and(|c| c.settled(h)) {
+            if q.a_len == cap {
+                return Err(PlanError::QueueFull);
+            }
+            if let Some(c) = cells.get_mut(wrap(q.a_head + q.a_len, cap)) {
+                c.ring_a = (v * 4 + h) as u32;
+            }
+            q.a_len += 1;
+        }
+    }
+    let Some(cv) = cells.get_mut(v) else {
+        return Ok(());
+    };
+    let turned = u32::from(cv.off[h & 3]) + t.quarter_turn;
+    if turned >= u32::from(NO_OFF) {
+        return Ok(());
+    }
+    let turned = turned as u8;
+    let mut up = [false; 2];
+    for (dir, h2) in [(0usize, (h + 1) & 3), (1, (h + 3) & 3)] {
+        if !cv.settled(h2) && turned < cv.off[h2] {
+            cv.off[h2] = turned;
+            up[dir] = true;
+        }
+    }
+    for (dir, up) in up.into_iter().enumerate() {
+        if !up {
+            continue;
+        }
+        if q.b_len == cap {
+            return Err(PlanError::QueueFull);
+        }
+        if let Some(c) = cells.get_mut(wrap(q.b_head + q.b_len, cap)) {
+            c.ring_b = ((v * 4 + h) * 2 + dir) as u32;
+        }
+        q.b_len += 1;
+    }
+    Ok(())
+}
+
+/// Settles state (`i`, `h`) of `cells` at `key`, growing the `dirty` box;
+/// returns whether it was the node's first settled state (then `key` is
+/// the node's distance), or `None` if the state was settled already.
+#[inline(always)]
+fn settle_in(
+    cells: &mut [PlanCell],
+    dirty: &mut Dirty,
+    i: usize,
+    h: usize,
+    key: Ticks,
+) -> Option<bool> {
+    let c = cells.get_mut(i)?;
+    let h = h & 3;
+    let bit = 1 << (SETTLED_SHIFT + h as u32);
+    if c.base & bit != 0 {
+        return None;
+    }
+    dirty.add(i, key);
+    let dist = c.base & DIST_MASK;
+    let first = dist == DIST_MASK;
+    if first {
+        c.base = key & DIST_MASK;
+    } else if key < dist {
+        lower_base(c, key);
+    }
+    let off = key
+        .saturating_sub(c.base & DIST_MASK)
+        .min(u32::from(NO_OFF - 1)) as u8;
+    c.off[h] = off;
+    c.base |= bit;
+    Some(first)
 }
 
 mod astar;
