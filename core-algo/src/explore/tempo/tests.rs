@@ -585,3 +585,148 @@ fn the_crowd_penalty_sends_robots_away_from_a_team_mate_s_target() {
     let d = tempo.decide(&ctx(&map, &robots), &mut fields).unwrap();
     assert_eq!(d.goal, Goal::Frontier(Pos::new(6, 0)));
 }
+
+/// A corridor along y = 0 from x = 0 to `len` − 1, visited, each node with
+/// an arm north too: every node (x, 1) is a frontier node.
+fn combed_corridor(len: i16) -> KnownMap<Vec<Block>> {
+    use crate::geometry::Arms;
+    let b = crate::map::Bounds::new(Pos::new(0, 0), len as u16, 2);
+    let mut map = KnownMap::new(vec![Block::EMPTY; crate::map::blocks_for(b.area())], b).unwrap();
+    for x in 0..len {
+        let mut arms = Arms::NONE.with(Heading::North);
+        if x > 0 {
+            arms = arms.with(Heading::West);
+        }
+        if x + 1 < len {
+            arms = arms.with(Heading::East);
+        }
+        mate_visits(&mut map, Pos::new(x, 0), arms);
+    }
+    map
+}
+
+/// Robots on the corridor at `xs`, the ones given heading for (x, 1).
+fn standing(xs: &[(i16, Option<i16>)]) -> Vec<RobotView> {
+    xs.iter()
+        .map(|&(x, t)| RobotView {
+            pos: Pos::new(x, 0),
+            heading: Heading::East,
+            eta: 0,
+            home: Pos::new(x, 0),
+            target: t.map(|t| Pos::new(t, 1)),
+        })
+        .collect()
+}
+
+/// `cluster_radius`: robots chained by where they stand or head form a
+/// cluster; the deciding robot leaves out the others, their announced
+/// targets with them, but not in the endgame.
+#[test]
+fn a_large_team_assigns_only_the_deciding_robot_s_cluster() {
+    let map = combed_corridor(64);
+    let b = map.bounds();
+    let at = |x: i16| b.index(Pos::new(x, 1));
+    // Two groups 24 apart (0, 4, 8, 12 and 36, 44, 52), radius 16.
+    let mut robots = standing(&[
+        (0, None),
+        (4, None),
+        (8, None),
+        (12, None),
+        (36, Some(40)),
+        (44, None),
+        (52, Some(56)),
+    ]);
+    let cut = |robots: &[RobotView], me: usize, radius: u32| {
+        let ctx = Context {
+            map: &map,
+            timing: Timing::DEFAULT,
+            robots,
+            me,
+        };
+        let (mut out, mut shares) = (0u32, [None; crate::explore::MAX_ROBOTS]);
+        outside_cluster(&ctx, radius, &mut out, &mut shares);
+        (out, shares)
+    };
+    let (out, shares) = cut(&robots, 0, 16);
+    assert_eq!(out, 0b111_0000);
+    assert_eq!(&shares[4..7], &[at(40), None, at(56)]);
+    assert_eq!(shares[..4], [None; 4]);
+    // Either side finds the same cut (the relation is symmetric).
+    assert_eq!(cut(&robots, 5, 16).0, 0b000_1111);
+    // A target within reach joins the groups: robot 4 heads for (20, 1).
+    robots[4].target = Some(Pos::new(20, 1));
+    assert_eq!(cut(&robots, 0, 16).0, 0);
+    robots[4].target = Some(Pos::new(40, 1));
+    // Radius 0 is off; a smaller radius cuts more.
+    assert_eq!(cut(&robots, 0, 0).0, 0);
+    assert_eq!(cut(&robots, 0, 4).0, 0b111_0000);
+    assert_eq!(cut(&robots, 0, 3).0, 0b111_1110);
+    // The endgame (fewer frontier nodes than robots) assigns everyone.
+    let short = combed_corridor(6);
+    let few = standing(&[
+        (0, None),
+        (1, None),
+        (2, None),
+        (3, None),
+        (4, None),
+        (5, None),
+        (5, None),
+    ]);
+    let ctx = Context {
+        map: &short,
+        timing: Timing::DEFAULT,
+        robots: &few,
+        me: 0,
+    };
+    let (mut out, mut shares) = (0u32, [None; crate::explore::MAX_ROBOTS]);
+    outside_cluster(&ctx, 1, &mut out, &mut shares);
+    assert_eq!(out, 0);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// Robots of one cluster decide alike, whoever decides: no two of
+    /// them head for the same frontier node, and none heads for a target
+    /// that a robot outside its cluster announced.
+    #[test]
+    fn a_cluster_decides_alike_and_leaves_other_clusters_targets(
+        seed in 0u64..1_000_000,
+        k in 7usize..=16,
+    ) {
+        let (map, mut robots) = random_team(40, 40, seed, 0.35, k);
+        let frontier: Vec<Pos> = map.frontier().collect();
+        prop_assume!(frontier.len() >= k);
+        // Every third robot has announced a frontier node.
+        for (j, r) in robots.iter_mut().enumerate().filter(|(j, _)| j % 3 == 0) {
+            r.target = Some(frontier[(seed as usize + j * 7) % frontier.len()]);
+        }
+        let config = TempoConfig { cluster_radius: 12, ..TempoConfig::default() };
+        let mut goals = Vec::new();
+        let mut outs = Vec::new();
+        for me in 0..k {
+            let ctx = Context { map: &map, timing: Timing::DEFAULT, robots: &robots, me };
+            let (mut out, mut shares) = (0u32, [None; crate::explore::MAX_ROBOTS]);
+            outside_cluster(&ctx, config.cluster_radius, &mut out, &mut shares);
+            let mut fields = fresh_fields(1600, k);
+            let d = Tempo::new(config).decide(&ctx, &mut fields).unwrap();
+            if let Goal::Frontier(p) = d.goal {
+                for (o, r) in robots.iter().enumerate() {
+                    if out & (1 << o) != 0 && r.target == Some(p) {
+                        prop_assert!(false, "robot {me} heads for robot {o}'s target");
+                    }
+                }
+                goals.push((me, p));
+            }
+            outs.push(out);
+        }
+        for &(a, pa) in &goals {
+            for &(b, pb) in &goals {
+                if a < b && outs[a] & (1 << b) == 0 {
+                    prop_assert_eq!(outs[a], outs[b], "clusters differ");
+                    prop_assert_ne!(pa, pb, "robots {} and {} of one cluster", a, b);
+                }
+            }
+        }
+    }
+}
