@@ -60,19 +60,6 @@
 //! team mate near it, gained little (docs/results/performance.md,
 //! stop 35).
 //!
-//! In teams of more than six, a deciding robot assigns only its cluster:
-//! the team mates it reaches in steps of at most 16 edges (Manhattan)
-//! between where robots stand or head (`outside_cluster`). Every robot of
-//! a cluster finds the same cluster from the same views, so they agree on
-//! its assignment; the others are left out, not searched, and their
-//! announced targets are left to them. Where robots spread out, most of a
-//! decision's searches were of team mates too far away to matter: on
-//! random 256² fields with 16 robots the wall time halved with makespans
-//! within 1 %; on 40² and 64² fields a cluster is mostly the whole team
-//! (docs/results/performance.md, stop 38). Linking robots by where they
-//! stand alone was faster still in rooms but made 128² rooms 10 % slower:
-//! robots far apart headed for one room.
-//!
 //! In teams of more than six, every cost carries a tie-break below one
 //! tick that every robot computes alike (`tie_break`): the cheapest
 //! assignment is then (almost always) unique, so robots deciding on the
@@ -94,7 +81,15 @@
 //! - a wait kept while the frontier does not grow (up to two map changes):
 //!   a robot that waits decides again at every map change, but keeping the
 //!   wait cost 6 % on 40² fields with 10 and 16 robots, and one of 64 runs
-//!   did not get home.
+//!   did not get home;
+//! - clusters (`cluster_radius`): in teams above six a robot assigns only
+//!   the team mates it reaches in steps of at most 16 edges between where
+//!   robots stand or head, leaving the others and their targets out.
+//!   Neutral on 40² to 128² fields and twice as fast on random 256² with
+//!   16 robots, but mazes 128² took 14 % longer and rooms 256² 8 %
+//!   (one run each): in a maze, Manhattan nearness says little, and robots
+//!   of different clusters headed for the same far work
+//!   (docs/results/performance.md, stop 38).
 
 use super::assign::{AssignmentObjective, Candidates, hungarian_cols, is_left_out};
 use super::{Context, Decision, Strategy, explore_decision, go_home, nearest_or_home};
@@ -201,9 +196,10 @@ pub struct TempoConfig {
     /// robot's share was left to it even with a team mate next to it.
     pub far_nearer: u32,
     /// In teams of more than `cluster_team`, robots chained by steps of at
-    /// most this Manhattan distance (in edges) form a cluster, and a
-    /// deciding robot assigns only its own cluster (0: the whole team). Team mates
-    /// outside it are left out, their announced targets with them.
+    /// most this Manhattan distance (in edges) between where they stand or
+    /// head form a cluster, and a deciding robot assigns only its own
+    /// cluster (0: the whole team). Team mates outside it are left out,
+    /// their announced targets with them. Off: see the module docs.
     pub cluster_radius: u32,
     /// See `cluster_radius`.
     pub cluster_team: usize,
@@ -242,7 +238,7 @@ impl Default for TempoConfig {
             far_keeps_share: 24,
             far_keeps_share_team: 6,
             far_nearer: 2,
-            cluster_radius: 16,
+            cluster_radius: 0,
             cluster_team: 6,
         }
     }
