@@ -593,17 +593,19 @@ fn outside_cluster<M>(
             .flatten()
             .any(|p| pb.iter().flatten().any(|q| p.manhattan(*q) <= radius))
     };
+    // One bit per robot, as in `left_out`.
+    let holds = |mask: u32, j: usize| is_left_out(mask, j);
     let mut inside = 1u32 << (ctx.me % 32);
     loop {
         let mut grown = inside;
         for (j, r) in robots.iter().enumerate() {
-            if is_left_out(grown, j) {
+            if holds(grown, j) {
                 continue;
             }
             let near = robots
                 .iter()
                 .enumerate()
-                .any(|(o, x)| is_left_out(inside, o) && close(x, r));
+                .any(|(o, x)| holds(inside, o) && close(x, r));
             if near {
                 grown |= 1 << (j % 32);
             }
@@ -614,7 +616,7 @@ fn outside_cluster<M>(
         inside = grown;
     }
     for (j, r) in robots.iter().enumerate() {
-        if is_left_out(inside, j) || is_left_out(*left_out, j) {
+        if holds(inside, j) || holds(*left_out, j) {
             continue;
         }
         *left_out |= 1 << (j % 32);
