@@ -593,27 +593,21 @@ fn outside_cluster<M>(
             .flatten()
             .any(|p| pb.iter().flatten().any(|q| p.manhattan(*q) <= radius))
     };
-    // One bit per robot, as in `left_out`.
+    // One bit per robot, as in `left_out`: the cluster grows from the
+    // deciding robot, each member looked at once for the robots close to it.
     let holds = |mask: u32, j: usize| is_left_out(mask, j);
     let mut inside = 1u32 << (ctx.me % 32);
-    loop {
-        let mut grown = inside;
+    let mut todo = inside;
+    while todo != 0 {
+        let o = todo.trailing_zeros() as usize;
+        todo &= todo - 1;
+        let Some(x) = robots.get(o) else { continue };
         for (j, r) in robots.iter().enumerate() {
-            if holds(grown, j) {
-                continue;
-            }
-            let near = robots
-                .iter()
-                .enumerate()
-                .any(|(o, x)| holds(inside, o) && close(x, r));
-            if near {
-                grown |= 1 << (j % 32);
+            if !holds(inside, j) && close(x, r) {
+                inside |= 1 << (j % 32);
+                todo |= 1 << (j % 32);
             }
         }
-        if grown == inside {
-            break;
-        }
-        inside = grown;
     }
     for (j, r) in robots.iter().enumerate() {
         if holds(inside, j) || holds(*left_out, j) {

@@ -72,28 +72,8 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
                 return None;
             }
             x.get_mut(..v.len())?.copy_from_slice(&v);
-            let [
-                d,
-                e,
-                i,
-                s,
-                q,
-                t,
-                h,
-                k,
-                c,
-                f,
-                l,
-                r,
-                b,
-                cp,
-                cr,
-                fk,
-                ft,
-                fe,
-                cl,
-                ct,
-            ] = x;
+            #[rustfmt::skip]
+            let [d, e, i, s, q, t, h, k, c, f, l, r, b, cp, cr, fk, ft, fe, cl, ct] = x;
             Box::new(Tempo::new(TempoConfig {
                 keep_share: c != 0,
                 deduce_penalty_edges: d,
