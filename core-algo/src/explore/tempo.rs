@@ -89,14 +89,18 @@
 //!   16 robots, but mazes 128² took 14 % longer and rooms 256² 8 %
 //!   (one run each): in a maze, Manhattan nearness says little, and robots
 //!   of different clusters headed for the same far work
-//!   (docs/results/performance.md, stop 38).
+//!   (docs/results/performance.md, stop 38);
+//! - far shares kept beside a busy team mate (`far_nearer_busy`): a team
+//!   mate near a far share, but heading for something no farther, does not
+//!   end it. Rooms 256² with 16 robots ran 6 times faster, but mazes 128²
+//!   took 4–6 % longer (docs/results/performance.md, stop 39).
 
 use super::assign::{AssignmentObjective, Candidates, hungarian_cols, is_left_out};
 use super::{Context, Decision, Strategy, explore_decision, go_home, nearest_or_home};
 use crate::map::Block;
 use crate::path::{DistField, Flow, PlanCell, PlanError};
 use crate::timing::Ticks;
-use commitment::Commitment;
+use commitment::{Commitment, FarRule};
 
 mod commitment;
 
@@ -195,6 +199,16 @@ pub struct TempoConfig {
     /// over 9), but open and random 256² fields took 4–5 % longer: a far
     /// robot's share was left to it even with a team mate next to it.
     pub far_nearer: u32,
+    /// With `far_nearer`: a robot near a far share does not end it while
+    /// it heads for an announced target no farther from it than the share.
+    /// On large fields of rooms a team mate in the next room, near by
+    /// Manhattan distance, ended far shares again and again, and every
+    /// robot then searched the far robot's field: with this on, rooms 256²
+    /// with 16 robots ran 6 times faster (165 s) and 7 % shorter, open and
+    /// random 256² twice and 1.6 times faster (−1.7 %, +0.8 %); but mazes
+    /// 128² took 4–6 % longer (three seeds), and 40² fields 0.8 %, hence
+    /// off (docs/results/performance.md, stop 39).
+    pub far_nearer_busy: bool,
     /// In teams of more than `cluster_team`, robots chained by steps of at
     /// most this Manhattan distance (in edges) between where they stand or
     /// head form a cluster, and a deciding robot assigns only its own
@@ -238,6 +252,7 @@ impl Default for TempoConfig {
             far_keeps_share: 24,
             far_keeps_share_team: 6,
             far_nearer: 2,
+            far_nearer_busy: false,
             cluster_radius: 0,
             cluster_team: 6,
         }
@@ -283,9 +298,13 @@ where
         let cfg = self.config;
         let kept = self.kept.get_mut(me).and_then(Option::take);
         let far = if cfg.keep_share && k > cfg.far_keeps_share_team {
-            (cfg.far_keeps_share, cfg.far_nearer)
+            FarRule {
+                edges: cfg.far_keeps_share,
+                nearer: cfg.far_nearer,
+                nearer_busy: cfg.far_nearer_busy,
+            }
         } else {
-            (0, 0)
+            FarRule::default()
         };
         if let (true, Some(c)) = (cfg.keep_share, kept) {
             if c.holds(ctx, cfg.share_slack, cfg.corridor_keeps_share, far) {
@@ -535,17 +554,14 @@ where
 /// cost most to search and, keeping their shares, would not change. Never
 /// in the endgame (fewer frontier nodes than robots), where the reverse
 /// searches look for every robot.
-fn keeping_far<M>(
-    ctx: &Context<'_, M>,
-    far: (u32, u32),
-) -> (u32, [Option<usize>; super::MAX_ROBOTS])
+fn keeping_far<M>(ctx: &Context<'_, M>, far: FarRule) -> (u32, [Option<usize>; super::MAX_ROBOTS])
 where
     M: AsRef<[Block]> + AsMut<[Block]>,
 {
     let mut left_out = 0u32;
     let mut shares = [None; super::MAX_ROBOTS];
     let map = ctx.map;
-    if far.0 == 0 || map.frontier_len() < ctx.robots.len() {
+    if far.edges == 0 || map.frontier_len() < ctx.robots.len() {
         return (left_out, shares);
     }
     for (j, r) in ctx.robots.iter().enumerate() {

@@ -101,7 +101,7 @@ impl Commitment {
         ctx: &Context<'_, M>,
         slack: u32,
         corridors: bool,
-        far: (u32, u32),
+        far: FarRule,
     ) -> bool
     where
         M: AsRef<[Block]> + AsMut<[Block]>,
@@ -129,11 +129,24 @@ impl Commitment {
     }
 }
 
+/// When a robot keeps a far share whatever changed in the map (see
+/// [`keeps_far`] and `TempoConfig::far_keeps_share`); the default never.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(super) struct FarRule {
+    /// The share lies at least this many edges (Manhattan) away; 0: never.
+    pub edges: u32,
+    /// n > 0: no other robot stands within 1/n of that distance of the
+    /// share (one that could take it over sooner)...
+    pub nearer: u32,
+    /// ...unless that robot heads for an announced target no farther from
+    /// it than the share (busy nearer by).
+    pub nearer_busy: bool,
+}
+
 /// Whether robot `j` keeps its share `share` whatever changed in the map,
 /// as every robot of the team predicts alike from the same views: it is
-/// at least `far` edges (Manhattan; 0: never) away, no other robot has
-/// announced it, and, with `nearer` n > 0, no other robot stands within
-/// 1/n of that distance of it (one that could take it over sooner).
+/// at least `rule.edges` away, no other robot has announced it, and no
+/// other robot stands near it as `rule.nearer` and `rule.nearer_busy` say.
 /// Robots on a long way to work rarely changed their shares in a fresh
 /// decision, yet their fields were the costliest to search
 /// (docs/results/performance.md, stop 35).
@@ -141,7 +154,7 @@ pub(super) fn keeps_far<M>(
     ctx: &Context<'_, M>,
     j: usize,
     share: crate::geometry::Pos,
-    (far, nearer): (u32, u32),
+    rule: FarRule,
 ) -> bool
 where
     M: AsRef<[Block]> + AsMut<[Block]>,
@@ -150,15 +163,18 @@ where
         return false;
     };
     let d = r.pos.manhattan(share);
-    far > 0
-        && d >= far
+    let near = |x: &crate::explore::RobotView| {
+        let from = x.pos.manhattan(share);
+        rule.nearer > 0
+            && rule.nearer.saturating_mul(from) < d
+            && !(rule.nearer_busy && x.target.is_some_and(|t| x.pos.manhattan(t) <= from))
+    };
+    rule.edges > 0
+        && d >= rule.edges
         && ctx
             .robots
             .iter()
             .enumerate()
             .filter(|&(o, _)| o != j)
-            .all(|(_, x)| {
-                x.target != Some(share)
-                    && (nearer == 0 || nearer.saturating_mul(x.pos.manhattan(share)) >= d)
-            })
+            .all(|(_, x)| x.target != Some(share) && !near(x))
 }

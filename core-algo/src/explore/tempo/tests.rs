@@ -291,26 +291,36 @@ fn a_share_survives_as_many_map_changes_as_its_slack() {
     )
     .unwrap();
     let wait = Commitment::after(&ctx(&map, &robots), None, None).unwrap();
-    assert!(wait.holds(&ctx(&map, &robots), 3, false, (0, 0)));
+    assert!(wait.holds(&ctx(&map, &robots), 3, false, far(0, 0)));
     // It drives to 5, where the share's decision left it; far behind it,
     // node 1 becomes known (one change), then node 0 (two).
     robots[0].pos = Pos::new(5, 0);
     mate_visits(&mut map, Pos::new(1, 0), line());
-    assert!(!share.holds(&ctx(&map, &robots), 0, false, (0, 0)));
-    assert!(share.holds(&ctx(&map, &robots), 1, false, (0, 0)));
+    assert!(!share.holds(&ctx(&map, &robots), 0, false, far(0, 0)));
+    assert!(share.holds(&ctx(&map, &robots), 1, false, far(0, 0)));
     mate_visits(
         &mut map,
         Pos::new(0, 0),
         crate::geometry::Arms::NONE.with(Heading::East),
     );
-    assert!(!share.holds(&ctx(&map, &robots), 1, false, (0, 0)));
-    assert!(share.holds(&ctx(&map, &robots), 2, false, (0, 0)));
+    assert!(!share.holds(&ctx(&map, &robots), 1, false, far(0, 0)));
+    assert!(share.holds(&ctx(&map, &robots), 2, false, far(0, 0)));
     robots[0].pos = Pos::new(4, 0);
-    assert!(!wait.holds(&ctx(&map, &robots), 3, false, (0, 0)));
+    assert!(!wait.holds(&ctx(&map, &robots), 3, false, far(0, 0)));
 }
 
 /// A corridor along y = 0 with x = 2..end visited and a junction at 4 (an
 /// arm north), in a window two nodes high and `end + 2` wide.
+/// The far-share rule of `far_keeps_share` `edges` and `far_nearer`
+/// `nearer`.
+fn far(edges: u32, nearer: u32) -> FarRule {
+    FarRule {
+        edges,
+        nearer,
+        nearer_busy: false,
+    }
+}
+
 fn corridor_with_junction(end: i16) -> (KnownMap<Vec<Block>>, crate::map::Bounds) {
     let b = crate::map::Bounds::new(Pos::new(0, 0), (end + 2) as u16, 2);
     let mut map = KnownMap::new(vec![Block::EMPTY; crate::map::blocks_for(b.area())], b).unwrap();
@@ -349,13 +359,13 @@ fn a_share_is_kept_through_a_corridor_but_not_at_a_junction() {
     // Behind the robot, node 1 becomes known: one map change.
     mate_visits(&mut map, Pos::new(1, 0), line());
     // At 3, a corridor node.
-    assert!(from_2.holds(&ctx(&map, &robots), 0, true, (0, 0)));
-    assert!(!from_2.holds(&ctx(&map, &robots), 0, false, (0, 0)));
-    assert!(!wait.holds(&ctx(&map, &robots), 0, true, (0, 0)));
+    assert!(from_2.holds(&ctx(&map, &robots), 0, true, far(0, 0)));
+    assert!(!from_2.holds(&ctx(&map, &robots), 0, false, far(0, 0)));
+    assert!(!wait.holds(&ctx(&map, &robots), 0, true, far(0, 0)));
     // At 4, a junction.
     robots[0].pos = Pos::new(4, 0);
-    assert!(!from_3.holds(&ctx(&map, &robots), 0, true, (0, 0)));
-    assert!(from_3.holds(&ctx(&map, &robots), 1, true, (0, 0)));
+    assert!(!from_3.holds(&ctx(&map, &robots), 0, true, far(0, 0)));
+    assert!(from_3.holds(&ctx(&map, &robots), 1, true, far(0, 0)));
     // The share explored by a team mate: not even a corridor keeps it.
     robots[0].pos = Pos::new(3, 0);
     mate_visits(
@@ -363,12 +373,13 @@ fn a_share_is_kept_through_a_corridor_but_not_at_a_junction() {
         Pos::new(6, 0),
         crate::geometry::Arms::NONE.with(Heading::West),
     );
-    assert!(!from_2.holds(&ctx(&map, &robots), 0, true, (0, 0)));
+    assert!(!from_2.holds(&ctx(&map, &robots), 0, true, far(0, 0)));
 }
 
 /// `far_keeps_share`: at a junction, whatever changed, a share at least
 /// `far` edges off is kept, until a team mate announces it (or, with
-/// `far_nearer`, comes near it).
+/// `far_nearer`, comes near it, and with `far_nearer_busy` is not busy
+/// nearer by).
 #[test]
 fn a_far_share_is_kept_at_a_junction_until_a_team_mate_announces_it() {
     // x = 2..=13 visited, a junction at 4 (an arm north); frontier nodes
@@ -388,21 +399,35 @@ fn a_far_share_is_kept_at_a_junction_until_a_team_mate_announces_it() {
     mate_visits(&mut map, Pos::new(1, 0), line());
     // At the junction 4, ten edges from the share.
     robots[0].pos = Pos::new(4, 0);
-    assert!(!share.holds(&ctx(&map, &robots), 0, true, (0, 0)));
-    assert!(share.holds(&ctx(&map, &robots), 0, true, (10, 0)));
-    assert!(!share.holds(&ctx(&map, &robots), 0, true, (11, 0)));
+    assert!(!share.holds(&ctx(&map, &robots), 0, true, far(0, 0)));
+    assert!(share.holds(&ctx(&map, &robots), 0, true, far(10, 0)));
+    assert!(!share.holds(&ctx(&map, &robots), 0, true, far(11, 0)));
     // The robot's own announcement does not count; a team mate's does.
     robots[0].target = Some(far_node);
-    assert!(share.holds(&ctx(&map, &robots), 0, true, (10, 0)));
+    assert!(share.holds(&ctx(&map, &robots), 0, true, far(10, 0)));
     robots[1].target = Some(far_node);
-    assert!(!share.holds(&ctx(&map, &robots), 0, true, (10, 0)));
+    assert!(!share.holds(&ctx(&map, &robots), 0, true, far(10, 0)));
     // With `far_nearer` 2, a team mate within half the distance of the
     // share ends it, one farther off does not.
     robots[1].target = None;
-    assert!(share.holds(&ctx(&map, &robots), 0, true, (10, 2)));
+    assert!(share.holds(&ctx(&map, &robots), 0, true, far(10, 2)));
     robots[1].pos = Pos::new(11, 0);
-    assert!(share.holds(&ctx(&map, &robots), 0, true, (10, 0)));
-    assert!(!share.holds(&ctx(&map, &robots), 0, true, (10, 2)));
+    assert!(share.holds(&ctx(&map, &robots), 0, true, far(10, 0)));
+    assert!(!share.holds(&ctx(&map, &robots), 0, true, far(10, 2)));
+    // With `far_nearer_busy`, it does not end it while it heads for a
+    // target no farther from it than the share (3 edges); it does while
+    // idle or heading farther.
+    let busy = FarRule {
+        nearer_busy: true,
+        ..far(10, 2)
+    };
+    assert!(!share.holds(&ctx(&map, &robots), 0, true, busy));
+    robots[1].target = Some(Pos::new(13, 1));
+    assert!(share.holds(&ctx(&map, &robots), 0, true, busy));
+    assert!(!share.holds(&ctx(&map, &robots), 0, true, far(10, 2)));
+    robots[1].target = Some(Pos::new(4, 1));
+    assert!(!share.holds(&ctx(&map, &robots), 0, true, busy));
+    robots[1].target = None;
     // Nor is a wait kept so.
     let wait = Commitment::after(&ctx(&map, &robots), None, None).unwrap();
     mate_visits(
@@ -410,7 +435,7 @@ fn a_far_share_is_kept_at_a_junction_until_a_team_mate_announces_it() {
         Pos::new(0, 0),
         crate::geometry::Arms::NONE.with(Heading::East),
     );
-    assert!(!wait.holds(&ctx(&map, &robots), 0, true, (1, 0)));
+    assert!(!wait.holds(&ctx(&map, &robots), 0, true, far(1, 0)));
 }
 
 /// A robot without a share trails to a far frontier node only in a sparse
