@@ -58,7 +58,11 @@
 //! from 104 s to 53 s of wall time with a 1 % shorter makespan, open was
 //! unchanged, and rooms and mazes, where a far share nearly always has a
 //! team mate near it, gained little (docs/results/performance.md,
-//! stop 35).
+//! stop 35). On fields of at least 4 096 nodes per robot, a team mate near
+//! a far share that heads for something no farther from it does not end
+//! the share (`far_busy_nodes_per_robot`): there rooms and mazes ran 2.7 to
+//! 6 times faster, in the end not much slower than open and random ones
+//! (stop 39).
 //!
 //! In teams of more than six, every cost carries a tie-break below one
 //! tick that every robot computes alike (`tie_break`): the cheapest
@@ -89,11 +93,7 @@
 //!   16 robots, but mazes 128² took 14 % longer and rooms 256² 8 %
 //!   (one run each): in a maze, Manhattan nearness says little, and robots
 //!   of different clusters headed for the same far work
-//!   (docs/results/performance.md, stop 38);
-//! - far shares kept beside a busy team mate (`far_nearer_busy`): a team
-//!   mate near a far share, but heading for something no farther, does not
-//!   end it. Rooms 256² with 16 robots ran 6 times faster, but mazes 128²
-//!   took 4–6 % longer (docs/results/performance.md, stop 39).
+//!   (docs/results/performance.md, stop 38).
 
 use super::assign::{AssignmentObjective, Candidates, hungarian_cols, is_left_out};
 use super::{Context, Decision, Strategy, explore_decision, go_home, nearest_or_home};
@@ -199,16 +199,18 @@ pub struct TempoConfig {
     /// over 9), but open and random 256² fields took 4–5 % longer: a far
     /// robot's share was left to it even with a team mate next to it.
     pub far_nearer: u32,
-    /// With `far_nearer`: a robot near a far share does not end it while
-    /// it heads for an announced target no farther from it than the share.
-    /// On large fields of rooms a team mate in the next room, near by
-    /// Manhattan distance, ended far shares again and again, and every
-    /// robot then searched the far robot's field: with this on, rooms 256²
-    /// with 16 robots ran 6 times faster (165 s) and 7 % shorter, open and
-    /// random 256² twice and 1.6 times faster (−1.7 %, +0.8 %); but mazes
-    /// 128² took 4–6 % longer (three seeds), and 40² fields 0.8 %, hence
-    /// off (docs/results/performance.md, stop 39).
-    pub far_nearer_busy: bool,
+    /// With `far_nearer`: in a team with at least this many nodes of the
+    /// map window per robot (0: never), a robot near a far share does not
+    /// end it while it heads for an announced target no farther from it
+    /// than the share. On large fields a team mate in the next room, near
+    /// by Manhattan distance but busy there, ended far shares again and
+    /// again, and every robot then searched the far robot's field. At 256²
+    /// with 16 robots (4 160 nodes each) rooms ran 6 times faster and 7 %
+    /// shorter, mazes 2.7 times faster, open and random about twice
+    /// (makespans −2 % to +1 %); but 128² mazes took 4–6 % longer and 40²
+    /// fields 0.8 %, hence the limit (docs/results/performance.md,
+    /// stop 39).
+    pub far_busy_nodes_per_robot: u32,
     /// In teams of more than `cluster_team`, robots chained by steps of at
     /// most this Manhattan distance (in edges) between where they stand or
     /// head form a cluster, and a deciding robot assigns only its own
@@ -225,6 +227,22 @@ impl TempoConfig {
     fn trails_far(&self, area: usize, robots: usize) -> bool {
         let per_robot = area / robots.max(1);
         self.trail_far_nodes_per_robot > 0 && per_robot >= self.trail_far_nodes_per_robot as usize
+    }
+
+    /// When a team of `robots` on a map window of `area` nodes keeps far
+    /// shares (see `far_keeps_share`, `far_nearer` and
+    /// `far_busy_nodes_per_robot`).
+    fn far_rule(&self, area: usize, robots: usize) -> FarRule {
+        if !self.keep_share || robots <= self.far_keeps_share_team {
+            return FarRule::default();
+        }
+        let per_robot = area / robots.max(1);
+        FarRule {
+            edges: self.far_keeps_share,
+            nearer: self.far_nearer,
+            nearer_busy: self.far_busy_nodes_per_robot > 0
+                && per_robot >= self.far_busy_nodes_per_robot as usize,
+        }
     }
 }
 
@@ -252,7 +270,7 @@ impl Default for TempoConfig {
             far_keeps_share: 24,
             far_keeps_share_team: 6,
             far_nearer: 2,
-            far_nearer_busy: false,
+            far_busy_nodes_per_robot: 4096,
             cluster_radius: 0,
             cluster_team: 6,
         }
@@ -297,15 +315,7 @@ where
         let k = ctx.robots.len();
         let cfg = self.config;
         let kept = self.kept.get_mut(me).and_then(Option::take);
-        let far = if cfg.keep_share && k > cfg.far_keeps_share_team {
-            FarRule {
-                edges: cfg.far_keeps_share,
-                nearer: cfg.far_nearer,
-                nearer_busy: cfg.far_nearer_busy,
-            }
-        } else {
-            FarRule::default()
-        };
+        let far = cfg.far_rule(ctx.map.bounds().area(), k);
         if let (true, Some(c)) = (cfg.keep_share, kept) {
             if c.holds(ctx, cfg.share_slack, cfg.corridor_keeps_share, far) {
                 match (c.share(), fields.get_mut(me), ctx.my()) {

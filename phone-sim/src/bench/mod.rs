@@ -55,7 +55,7 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
         "minpos" => Box::new(MinPos),
         "tempo" => Box::new(Tempo::default()),
         other => {
-            // `tempo:<deduce edges>:<endgame 0|1>:<idle: 0 trail, 1 home, 2 stay>:<spread>:<squared 0|1>[:<trail edges>[:<home pull %>[:<trail team>[:<keep share 0|1>[:<trail far, nodes per robot>[:<share slack, map changes>[:<corridor keeps share 0|1>[:<tie-break team>[:<crowd penalty edges>[:<crowd radius>[:<far keeps share, edges>[:<its team>[:<far nearer>[:<cluster radius, edges>[:<its team>[:<far nearer busy 0|1>]]]]]]]]]]]]]]]]`
+            // `tempo:<deduce edges>:<endgame 0|1>:<idle: 0 trail, 1 home, 2 stay>:<spread>:<squared 0|1>[:<trail edges>[:<home pull %>[:<trail team>[:<keep share 0|1>[:<trail far, nodes per robot>[:<share slack, map changes>[:<corridor keeps share 0|1>[:<tie-break team>[:<crowd penalty edges>[:<crowd radius>[:<far keeps share, edges>[:<its team>[:<far nearer>[:<cluster radius, edges>[:<its team>[:<far busy, nodes per robot>]]]]]]]]]]]]]]]]`
             // for ablations; a field left out is off (keep share and
             // corridor keeps share: on; the crowd radius: 4).
             let rest = other.strip_prefix("tempo:")?;
@@ -94,7 +94,7 @@ pub fn strategy(name: &str) -> Option<Box<DynStrategy>> {
                 far_keeps_share: fk,
                 far_keeps_share_team: usize::try_from(ft).unwrap_or(usize::MAX),
                 far_nearer: fe,
-                far_nearer_busy: fb != 0,
+                far_busy_nodes_per_robot: fb,
                 cluster_radius: cl,
                 cluster_team: usize::try_from(ct).unwrap_or(usize::MAX),
                 ..TempoConfig::default()

@@ -438,6 +438,36 @@ fn a_far_share_is_kept_at_a_junction_until_a_team_mate_announces_it() {
     assert!(!wait.holds(&ctx(&map, &robots), 0, true, far(1, 0)));
 }
 
+/// Busy team mates leave far shares alone only on large fields: at 256²
+/// with 16 robots (a window of 258² nodes), not at 128², nor in a team
+/// that keeps no far shares at all.
+#[test]
+fn busy_team_mates_leave_far_shares_only_on_large_fields() {
+    let cfg = TempoConfig::default();
+    let big = cfg.far_rule(258 * 258, 16);
+    assert_eq!(
+        big,
+        FarRule {
+            edges: 24,
+            nearer: 2,
+            nearer_busy: true,
+        }
+    );
+    assert_eq!(
+        cfg.far_rule(130 * 130, 16),
+        FarRule {
+            nearer_busy: false,
+            ..big
+        }
+    );
+    assert_eq!(cfg.far_rule(258 * 258, 6), FarRule::default());
+    let off = TempoConfig {
+        far_busy_nodes_per_robot: 0,
+        ..cfg
+    };
+    assert!(!off.far_rule(258 * 258, 16).nearer_busy);
+}
+
 /// A robot without a share trails to a far frontier node only in a sparse
 /// team (enough of the map window per robot), and waits in a crowded one.
 #[test]
