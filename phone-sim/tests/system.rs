@@ -367,3 +367,24 @@ fn the_benchmark_can_run_on_the_system_simulator() {
     assert_eq!(stats.edges.len(), 3);
     assert!(stats.max_edges() > 0 && stats.makespan > 0);
 }
+
+/// Sixteen robots with tempo's far shares kept beside busy team mates
+/// (`far_busy_nodes_per_robot`, on by default only on fields of 4 096
+/// nodes per robot; here on at any size, and far from 8 edges, so that
+/// small fields exercise it): every field explored, every robot home, and
+/// the rule changes the runs, so these are not the default's runs again.
+#[test]
+fn far_shares_kept_beside_busy_team_mates_still_complete() {
+    let spec = |busy: u32| format!("tempo:0:0:2:0:0:8:25:6:1:48:0:1:6:2:4:8:6:2:0:6:{busy}");
+    let mut changed = 0;
+    for (kind, seed) in [(Kind::Rooms, 1), (Kind::Maze, 2), (Kind::Random, 3)] {
+        let f = kind.generate(24, 24, seed);
+        let starts = field::default_starts(f.nodes(), 16);
+        let f = f.with_starts(starts).expect("16 starts");
+        let (o, sim) = run(&f, 16, &spec(1), SimConfig::default());
+        assert_sound(&o, &sim, &format!("{} with 16 robots", f.name()));
+        let (off, _) = run(&f, 16, &spec(0), SimConfig::default());
+        changed += usize::from(off.makespan_ms != o.makespan_ms);
+    }
+    assert!(changed > 0, "the rule changed no run");
+}
