@@ -309,8 +309,6 @@ fn a_share_survives_as_many_map_changes_as_its_slack() {
     assert!(!wait.holds(&ctx(&map, &robots), 3, false, far(0, 0)));
 }
 
-/// A corridor along y = 0 with x = 2..end visited and a junction at 4 (an
-/// arm north), in a window two nodes high and `end + 2` wide.
 /// The far-share rule of `far_keeps_share` `edges` and `far_nearer`
 /// `nearer`.
 fn far(edges: u32, nearer: u32) -> FarRule {
@@ -321,6 +319,8 @@ fn far(edges: u32, nearer: u32) -> FarRule {
     }
 }
 
+/// A corridor along y = 0 with x = 2..end visited and a junction at 4 (an
+/// arm north), in a window two nodes high and `end + 2` wide.
 fn corridor_with_junction(end: i16) -> (KnownMap<Vec<Block>>, crate::map::Bounds) {
     let b = crate::map::Bounds::new(Pos::new(0, 0), (end + 2) as u16, 2);
     let mut map = KnownMap::new(vec![Block::EMPTY; crate::map::blocks_for(b.area())], b).unwrap();
@@ -378,7 +378,7 @@ fn a_share_is_kept_through_a_corridor_but_not_at_a_junction() {
 
 /// `far_keeps_share`: at a junction, whatever changed, a share at least
 /// `far` edges off is kept, until a team mate announces it (or, with
-/// `far_nearer`, comes near it, and with `far_nearer_busy` is not busy
+/// `far_nearer`, comes near it, and with its busy rule is not busy
 /// nearer by).
 #[test]
 fn a_far_share_is_kept_at_a_junction_until_a_team_mate_announces_it() {
@@ -414,9 +414,9 @@ fn a_far_share_is_kept_at_a_junction_until_a_team_mate_announces_it() {
     robots[1].pos = Pos::new(11, 0);
     assert!(share.holds(&ctx(&map, &robots), 0, true, far(10, 0)));
     assert!(!share.holds(&ctx(&map, &robots), 0, true, far(10, 2)));
-    // With `far_nearer_busy`, it does not end it while it heads for a
-    // target no farther from it than the share (3 edges); it does while
-    // idle or heading farther.
+    // With the busy rule (`far_busy_nodes_per_robot`), it does not end
+    // it while it heads for a target no farther from it than the share
+    // (3 edges); it does while idle or heading farther.
     let busy = FarRule {
         nearer_busy: true,
         ..far(10, 2)
