@@ -61,8 +61,8 @@
 //! stop 35). On fields of at least 4 096 nodes per robot, a team mate near
 //! a far share that heads for something no farther from it does not end
 //! the share (`far_busy_nodes_per_robot`): at 256² with 16 robots rooms
-//! ran 2.3 to 6 times faster and random up to 2.7 times, the makespans
-//! even (stop 39).
+//! ran 2.3 to 6 times faster, a maze 2.6 times, random up to 2.7 times,
+//! with makespans even or shorter (stop 39).
 //!
 //! In teams of more than six, every cost carries a tie-break below one
 //! tick that every robot computes alike (`tie_break`): the cheapest
@@ -206,10 +206,11 @@ pub struct TempoConfig {
     /// by Manhattan distance but busy there, ended far shares again and
     /// again, and every robot then searched the far robot's field. At 256²
     /// with 16 robots (4 160 nodes each) rooms ran 2.3 to 6 times faster,
-    /// random up to 2.7 times, with makespans even over six runs
-    /// (geometric mean 0.996, single runs −7 % to +9 %); but 128² mazes
-    /// took 4–6 % longer and 40² fields 0.8 %, hence the limit
-    /// (docs/results/performance.md, stop 39).
+    /// a maze 2.6 times and 30 % shorter, random up to 2.7 times, with
+    /// makespans even over the other six runs (geometric mean 0.996,
+    /// single runs −7 % to +9 %); but 128² mazes took 4–6 % longer and
+    /// 40² fields 0.8 %, hence the limit (docs/results/performance.md,
+    /// stop 39).
     pub far_busy_nodes_per_robot: u32,
     /// In teams of more than `cluster_team`, robots chained by steps of at
     /// most this Manhattan distance (in edges) between where they stand or
