@@ -207,7 +207,7 @@ pub struct TempoConfig {
     /// again, and every robot then searched the far robot's field. At 256²
     /// with 16 robots (4 160 nodes each) rooms ran 2.3 to 6 times faster,
     /// a maze 2.6 times and 30 % shorter, random up to 2.7 times, with
-    /// makespans even over the other six runs (geometric mean 0.996,
+    /// makespans even over the other seven runs (geometric mean 0.987,
     /// single runs −7 % to +9 %); but 128² mazes took 4–6 % longer and
     /// 40² fields 0.8 %, hence the limit (docs/results/performance.md,
     /// stop 39).
