@@ -226,8 +226,7 @@ impl TempoConfig {
     /// Whether a team of `robots` on a map window of `area` nodes trails
     /// any distance (see `trail_far_nodes_per_robot`).
     fn trails_far(&self, area: usize, robots: usize) -> bool {
-        let per_robot = area / robots.max(1);
-        self.trail_far_nodes_per_robot > 0 && per_robot >= self.trail_far_nodes_per_robot as usize
+        has_per_robot(area, robots, self.trail_far_nodes_per_robot)
     }
 
     /// When a team of `robots` on a map window of `area` nodes keeps far
@@ -237,14 +236,19 @@ impl TempoConfig {
         if !self.keep_share || robots <= self.far_keeps_share_team {
             return FarRule::default();
         }
-        let per_robot = area / robots.max(1);
         FarRule {
             edges: self.far_keeps_share,
             nearer: self.far_nearer,
-            nearer_busy: self.far_busy_nodes_per_robot > 0
-                && per_robot >= self.far_busy_nodes_per_robot as usize,
+            nearer_busy: has_per_robot(area, robots, self.far_busy_nodes_per_robot),
         }
     }
+}
+
+/// Whether a team of `robots` on a map window of `area` nodes has at least
+/// `nodes` of it per robot (0: never): the size rule of the knobs that pay
+/// only on sparse teams or large fields.
+fn has_per_robot(area: usize, robots: usize, nodes: u32) -> bool {
+    nodes > 0 && area / robots.max(1) >= nodes as usize
 }
 
 impl Default for TempoConfig {
