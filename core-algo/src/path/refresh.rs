@@ -6,9 +6,10 @@
 //! and a robot decides again whenever the map grows. Most frontier nodes
 //! outlive a decision, and most visits change none of their searches: the
 //! newly passable node is a dead end of the known graph (a maze's corridor
-//! grown by one node), so no way to the goal can pass it. And the visit
-//! that takes a frontier node away hands its search on to the node beyond
-//! it ([`DistField::rebase_reverse`]).
+//! grown by one node), so no way to the goal can pass it, or it closes a
+//! loop that is no shortcut to the goal. And the visit that takes a
+//! frontier node away hands its search on to the node beyond it
+//! ([`DistField::rebase_reverse`]).
 
 use super::scratch::{DIST_MASK, Queues, SETTLED_SHIFT};
 use super::{DistField, Flow, PlanCell, PlanError, arms_at, neighbour_index};
@@ -39,8 +40,12 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// in place), so they need not be expanded. A node with two ways on
     /// or more changes nothing while the search has expanded none of them:
     /// it reaches the node when it does, as if the node had always been
-    /// passable. Any other change (a loop closed where the search has
-    /// been), a map that changed too long ago, a window that moved, or
+    /// passable. One with all of them expanded (a loop closed where the
+    /// search has been) is settled at once like a dead end if no state
+    /// beside it, facing it, gets cheaper through it: every way through
+    /// the node passes one of those. Any other change (a shortcut, a node
+    /// beside a state not settled yet, some ways on expanded and some
+    /// not), a map that changed too long ago, a window that moved, or
     /// marks written into the queue's slots since (see `mark`) refuse.
     pub fn refresh_reverse<M: AsRef<[Block]> + AsMut<[Block]>>(
         &mut self,
@@ -81,8 +86,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         };
         let (bounds, t) = (self.bounds, self.timing);
         let pending = self.queue.pending.map(|(v, h, _)| (v, h));
-        // Check every change before settling anything.
-        let mut seeds = [(0usize, Heading::North, 0 as Ticks); 8];
+        // Check every change before settling anything: each new node
+        // that the search has been beside, with its four states' times.
+        let mut seeds = [(0usize, [0 as Ticks; 4]); 8];
         let mut n = 0usize;
         for f in changed.filter(|&f| Some(f) != skip) {
             let Some(arms) = arms_at(map, f) else {
@@ -91,55 +97,88 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             if f == g {
                 return false;
             }
-            let onward = arms.iter().filter_map(|a| {
-                let v = neighbour_index(bounds, f, a)?;
-                (v == g || arms_at(map, v).is_some()).then_some((v, a))
-            });
             // Facing `a` on `v`, the search has its way on: the time of
             // that state, if it is settled and expanded already (its
             // expansion missed `f`).
-            let expanded = |(v, a): (usize, Heading)| {
+            let expanded = |v: usize, a: Heading| {
                 let h = usize::from(a.index());
                 let d = self.cells.as_ref().get(v).and_then(|c| c.pose_dist(h))?;
-                (pending != Some((v, h))).then_some((a, d))
+                (pending != Some((v, h))).then_some(d)
             };
-            let mut ways = 0usize;
-            let mut seed = None;
-            for way in onward {
-                ways += 1;
-                if let Some(s) = expanded(way) {
-                    if seed.is_some() {
-                        return false;
-                    }
-                    seed = Some(s);
+            // The ways on from `f` (to a passable node or the goal), each
+            // with its time if expanded.
+            let mut ways = [(0usize, Heading::North, None::<Ticks>); 4];
+            let mut m = 0usize;
+            for a in arms.iter() {
+                let Some(v) = neighbour_index(bounds, f, a) else {
+                    continue;
+                };
+                if v != g && arms_at(map, v).is_none() {
+                    continue;
+                }
+                if let Some(w) = ways.get_mut(m) {
+                    *w = (v, a, expanded(v, a));
+                    m += 1;
                 }
             }
-            // A way through `f` (two ways on) could make settled states
-            // cheaper only if one of its ways on was expanded already;
-            // else the search reaches `f` when it expands them, as if `f`
-            // had always been passable. A loop closed beyond what the
-            // search settled was most of the refusals (maze 64², 16
-            // robots).
-            let Some((a, d)) = seed else {
+            let ways = ways.get(..m).unwrap_or(&[]);
+            // None expanded: the search reaches `f` when it expands one, as
+            // if `f` had always been passable (a loop closed beyond what
+            // the search settled was most of the refusals on maze 64²
+            // with 16 robots). Some but not all: refuse.
+            let expanded_ways = ways.iter().filter(|w| w.2.is_some()).count();
+            if expanded_ways == 0 {
                 continue;
-            };
-            if ways > 1 {
+            }
+            if expanded_ways < ways.len() {
                 return false;
             }
+            // `f`'s time facing `h`: its cheapest way on, turn included.
+            let time = |h: Heading| {
+                ways.iter()
+                    .filter_map(|&(_, a, d)| {
+                        let turns = Timing::quarter_turns_between(h.index(), a.index());
+                        Some(d? + t.turn(turns) + t.edge)
+                    })
+                    .min()
+            };
+            let mut keys = [0 as Ticks; 4];
+            for (k, h) in keys.iter_mut().zip(Heading::ALL) {
+                match time(h) {
+                    Some(x) if x <= super::MAX_DIST => *k = x,
+                    _ => return false,
+                }
+            }
+            // A loop closed where the search has been: it still holds if
+            // no state beside `f` gets cheaper through it. A robot on `v`
+            // facing `f` drives in and on; any other state's way through
+            // `f` passes one of those (or turns on `f`, which `keys`
+            // counts). A dead end (one way on) has none cheaper: out and
+            // back costs more than a U-turn in place.
+            if ways.len() > 1 {
+                for &(v, a, _) in ways {
+                    let facing = a.opposite();
+                    let now = self
+                        .cells
+                        .as_ref()
+                        .get(v)
+                        .and_then(|c| c.pose_dist(usize::from(facing.index())));
+                    let through = keys.get(usize::from(facing.index())).map(|&k| k + t.edge);
+                    match (now, through) {
+                        (Some(x), Some(y)) if x <= y => {}
+                        _ => return false,
+                    }
+                }
+            }
             match seeds.get_mut(n) {
-                Some(s) => *s = (f, a, d + t.edge),
+                Some(s) => *s = (f, keys),
                 None => return false,
             }
             n += 1;
         }
-        for &(f, a, d) in seeds.get(..n).unwrap_or(&[]) {
-            for heading in Heading::ALL {
-                let turns = Timing::quarter_turns_between(heading.index(), a.index());
-                let key = d + t.turn(turns);
-                if key > super::MAX_DIST {
-                    return self.refuse();
-                }
-                self.settle(f, usize::from(heading.index()), key);
+        for &(f, keys) in seeds.get(..n).unwrap_or(&[]) {
+            for (h, key) in keys.into_iter().enumerate() {
+                self.settle(f, h, key);
             }
         }
         self.rev_open = Some((g, map.revision()));
