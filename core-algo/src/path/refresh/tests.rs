@@ -241,30 +241,29 @@ fn a_dead_end_or_a_loop_that_shortens_nothing_keeps_the_search() {
     };
     // The bottom row (0,0)-(1,0)-(2,0), the goal (3,0) to the east, and
     // (1,1) and (2,1) above the middle frontier too.
+    let goal = Pos::new(3, 0);
     let mut map = map_with(&[
         (Pos::new(0, 0), arms(&[e])),
         (Pos::new(1, 0), arms(&[e, w, n])),
         (Pos::new(2, 0), arms(&[e, w, n])),
     ]);
     let mut f = field_for(b.area());
-    f.compute_reverse(&map, t, Pos::new(3, 0), |_, _, _| Flow::Continue)
+    f.compute_reverse(&map, t, goal, |_, _, _| Flow::Continue)
         .unwrap();
+    // Visiting `p` keeps the search, which resumed agrees with a fresh one.
+    let mut keeps = |p: Pos, a: Arms| {
+        map.visit(p, a, RobotId(0)).unwrap();
+        assert!(f.refresh_reverse(&map, t));
+        f.resume_reverse(&map, |_, _, _| Flow::Continue).unwrap();
+        assert_eq!(states(&f, b), fresh_states(&map, goal));
+        assert!(f.dist(p).is_some());
+    };
     // (1,1) turns out a dead end: its arm east leads to the frontier (2,1).
-    map.visit(Pos::new(1, 1), arms(&[s, e]), RobotId(0))
-        .unwrap();
-    assert!(f.refresh_reverse(&map, t));
-    f.resume_reverse(&map, |_, _, _| Flow::Continue).unwrap();
-    assert_eq!(states(&f, b), fresh_states(&map, Pos::new(3, 0)));
-    assert!(f.dist(Pos::new(1, 1)).is_some());
+    keeps(Pos::new(1, 1), arms(&[s, e]));
     // (2,1) joins (1,1) to (2,0): a loop, but from (1,1) facing east the
     // way through it (three edges, two quarter turns) is no shorter than
     // the way down and along.
-    map.visit(Pos::new(2, 1), arms(&[w, s]), RobotId(0))
-        .unwrap();
-    assert!(f.refresh_reverse(&map, t));
-    f.resume_reverse(&map, |_, _, _| Flow::Continue).unwrap();
-    assert_eq!(states(&f, b), fresh_states(&map, Pos::new(3, 0)));
-    assert!(f.dist(Pos::new(2, 1)).is_some());
+    keeps(Pos::new(2, 1), arms(&[w, s]));
 
     // A shortcut: the goal (0,1) is three edges and a turn from (2,1)
     // round the bottom row, and two straight ones through (1,1), the node
