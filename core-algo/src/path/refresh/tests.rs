@@ -102,7 +102,10 @@ fn agrees_on(
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(1024))]
+    // 16 384 cases (a fraction of a second): with the check for unsettled
+    // states beside a loop left out, 1 024 rarely failed; this many fail
+    // in two runs of three, besides the saved cases.
+    #![proptest_config(ProptestConfig::with_cases(16384))]
 
     /// A reverse search stopped anywhere, carried over to a map grown by a
     /// few visits and resumed, settles every state at the time a fresh
