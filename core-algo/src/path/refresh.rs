@@ -90,6 +90,11 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         // that the search has been beside, with its four states' times.
         let mut seeds = [(0usize, [0 as Ticks; 4]); 8];
         let mut n = 0usize;
+        // The time of state (`v`, facing `h`), if it is settled.
+        let settled = |v: usize, h: Heading| {
+            let cell = self.cells.as_ref().get(v)?;
+            cell.pose_dist(usize::from(h.index()))
+        };
         for f in changed.filter(|&f| Some(f) != skip) {
             let Some(arms) = arms_at(map, f) else {
                 return false;
@@ -101,9 +106,8 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             // that state, if it is settled and expanded already (its
             // expansion missed `f`).
             let expanded = |v: usize, a: Heading| {
-                let h = usize::from(a.index());
-                let d = self.cells.as_ref().get(v).and_then(|c| c.pose_dist(h))?;
-                (pending != Some((v, h))).then_some(d)
+                let d = settled(v, a)?;
+                (pending != Some((v, usize::from(a.index())))).then_some(d)
             };
             // The ways on from `f` (to a passable node or the goal), each
             // with its time if expanded.
@@ -158,13 +162,8 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             if ways.len() > 1 {
                 for &(v, a, _) in ways {
                     let facing = a.opposite();
-                    let now = self
-                        .cells
-                        .as_ref()
-                        .get(v)
-                        .and_then(|c| c.pose_dist(usize::from(facing.index())));
                     let through = keys.get(usize::from(facing.index())).map(|&k| k + t.edge);
-                    match (now, through) {
+                    match (settled(v, facing), through) {
                         (Some(x), Some(y)) if x <= y => {}
                         _ => return false,
                     }
