@@ -215,7 +215,15 @@ impl Candidates {
         }
         if spread == 0
             && ctx.map.frontier_len() < per_robot.min(k)
-            && Self::endgame(ctx, fields, reverse, &mut cost, &mut floor, bound, c)?
+            && Self::endgame(
+                ctx,
+                fields,
+                (lazy, reverse),
+                &mut cost,
+                &mut floor,
+                bound,
+                c,
+            )?
         {
             return Ok(true);
         }
@@ -322,31 +330,61 @@ impl Candidates {
 /// of each row, `None` where only a forbidden pair was left (and for
 /// left-out rows), and each row's potential `u` (see [`Picks`]).
 fn hungarian(c: &Candidates, cap: i64) -> ([Option<usize>; MAX_ROBOTS], [i64; MAX_ROBOTS]) {
-    let (n, m) = (c.k, c.m.max(c.k));
-    // 1-based arrays as in the textbook form; column 0 is the virtual one.
-    let mut u = [0i64; MAX_ROBOTS + 1];
-    let mut v = [0i64; MAX_CANDIDATES + MAX_ROBOTS + 1];
-    let mut p = [0usize; MAX_CANDIDATES + MAX_ROBOTS + 1];
-    let mut way = [0usize; MAX_CANDIDATES + MAX_ROBOTS + 1];
     let cost = |i: usize, j: usize| -> i64 {
-        if j > c.m {
+        if j >= c.m {
             // Dummy columns when there are fewer candidates than robots.
             return INF;
         }
-        let x = c.at(i - 1, j - 1);
+        let x = c.at(i, j);
         if x > cap { INF } else { x }
     };
+    let (p, u) =
+        hungarian_by::<{ MAX_CANDIDATES + MAX_ROBOTS + 1 }>(c.k, c.m.max(c.k), c.left_out, cost);
+    let mut out = [None; MAX_ROBOTS];
+    for j in 1..=c.m.max(c.k) {
+        let i = p.get(j).copied().unwrap_or(0);
+        if i >= 1 && j <= c.m && cost(i - 1, j - 1) < INF {
+            if let Some(x) = out.get_mut(i - 1) {
+                *x = Some(j - 1);
+            }
+        }
+    }
+    let mut rows = [0i64; MAX_ROBOTS];
+    for (r, x) in rows.iter_mut().zip(u.iter().skip(1)) {
+        *r = *x;
+    }
+    (out, rows)
+}
+
+/// The Hungarian algorithm with potentials on `n` rows (but those in the
+/// `skip` mask) and `m ≥ n` columns of `cost(row, column)` (0-based): the
+/// row of each column, 1-based with 0 for none, at index column + 1, and
+/// the rows' potentials at index row + 1, as in the textbook form. `C`
+/// holds the columns and the virtual one (`m < C`); each row clears
+/// arrays of that size, so a small problem takes a small `C`.
+#[allow(clippy::type_complexity)]
+fn hungarian_by<const C: usize>(
+    n: usize,
+    m: usize,
+    skip: u32,
+    cost: impl Fn(usize, usize) -> i64,
+) -> ([usize; C], [i64; MAX_ROBOTS + 1]) {
+    // 1-based arrays as in the textbook form; column 0 is the virtual one.
+    let mut u = [0i64; MAX_ROBOTS + 1];
+    let mut v = [0i64; C];
+    let mut p = [0usize; C];
+    let mut way = [0usize; C];
     let get = |a: &[i64], i: usize| a.get(i).copied().unwrap_or(0);
     for i in 1..=n {
-        if is_left_out(c.left_out, i - 1) {
+        if is_left_out(skip, i - 1) {
             continue;
         }
         if let Some(x) = p.get_mut(0) {
             *x = i;
         }
         let mut j0 = 0usize;
-        let mut minv = [INF * 4; MAX_CANDIDATES + MAX_ROBOTS + 1];
-        let mut used = [false; MAX_CANDIDATES + MAX_ROBOTS + 1];
+        let mut minv = [INF * 4; C];
+        let mut used = [false; C];
         for _ in 0..=m {
             if let Some(x) = used.get_mut(j0) {
                 *x = true;
@@ -358,7 +396,7 @@ fn hungarian(c: &Candidates, cap: i64) -> ([Option<usize>; MAX_ROBOTS], [i64; MA
                 if used.get(j).copied().unwrap_or(true) {
                     continue;
                 }
-                let cur = cost(i0, j) - get(&u, i0) - get(&v, j);
+                let cur = cost(i0.wrapping_sub(1), j - 1) - get(&u, i0) - get(&v, j);
                 if cur < minv.get(j).copied().unwrap_or(0) {
                     if let Some(x) = minv.get_mut(j) {
                         *x = cur;
@@ -403,20 +441,7 @@ fn hungarian(c: &Candidates, cap: i64) -> ([Option<usize>; MAX_ROBOTS], [i64; MA
             }
         }
     }
-    let mut out = [None; MAX_ROBOTS];
-    for j in 1..=m {
-        let i = p.get(j).copied().unwrap_or(0);
-        if i >= 1 && j <= c.m && cost(i, j) < INF {
-            if let Some(x) = out.get_mut(i - 1) {
-                *x = Some(j - 1);
-            }
-        }
-    }
-    let mut rows = [0i64; MAX_ROBOTS];
-    for (r, x) in rows.iter_mut().zip(u.iter().skip(1)) {
-        *r = *x;
-    }
-    (out, rows)
+    (p, u)
 }
 
 /// The smallest threshold under which every row can still be matched, for

@@ -4,7 +4,7 @@
 use super::*;
 use crate::explore::RobotView;
 use crate::explore::tests::random_team;
-use crate::geometry::{Heading, Pos};
+use crate::geometry::{Arms, Heading, Pos};
 use crate::map::{Bounds, KnownMap, blocks_for};
 use crate::path::tests::{bfs_order, random_arms, tree_arms};
 use crate::path::{arms_at, min_cells};
@@ -172,12 +172,13 @@ proptest! {
     /// two and robots moving in between: the endgame's reverse searches,
     /// carried over from decision to decision where the map allows, still
     /// find a min-sum optimum over every frontier node (against full
-    /// fields searched afresh each time).
+    /// fields searched afresh each time), lazy (each column grown only as
+    /// far as the assignment needs) or not.
     #[test]
     fn kept_reverse_searches_lose_no_optimal_assignment(
         w in 2u16..10, h in 2u16..10, seed in any::<u64>(), tree in any::<bool>(),
         known in 2usize..60, k in 2usize..17, me in 0usize..16, steps in 1usize..8,
-        grow in 0usize..3, moves in any::<u64>(),
+        grow in 0usize..3, moves in any::<u64>(), lazy in any::<bool>(),
     ) {
         let b = Bounds::new(Pos::new(0, 0), w, h);
         let area = b.area();
@@ -237,7 +238,7 @@ proptest! {
             };
             let bound = |_: usize, _: usize| i64::MIN;
             prop_assert!(
-                Candidates::cheapest(&ctx, &mut fields, k, 0, (false, true, 0), cost, floor, bound, &mut c).unwrap()
+                Candidates::cheapest(&ctx, &mut fields, k, 0, (lazy, true, 0), cost, floor, bound, &mut c).unwrap()
             );
             let (full, best) = full_costs(&map, timing, &robots, cost);
             prop_assume!(best.is_some());
@@ -259,4 +260,84 @@ proptest! {
             }
         }
     }
+}
+
+/// The lazy endgame grows each frontier node's reverse search only until
+/// the assignment is proven: on a corridor with a frontier node at each
+/// end and two robots near each, the nearest robot at each end is the
+/// optimum, and neither search needs the second robot, which the eager
+/// endgame (each node's m cheapest robots) finds. Both give the optimum.
+#[test]
+fn the_lazy_endgame_searches_only_as_far_as_the_assignment_needs() {
+    let b = Bounds::new(Pos::new(0, 0), 14, 1);
+    let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).unwrap();
+    let through = Arms::NONE.with(Heading::East).with(Heading::West);
+    for x in 1..=12 {
+        map.visit(Pos::new(x, 0), through, RobotId(0)).unwrap();
+    }
+    assert_eq!(map.frontier_len(), 2);
+    let robots: Vec<RobotView> = [2, 4, 9, 11]
+        .iter()
+        .map(|&x| RobotView {
+            pos: Pos::new(x, 0),
+            heading: Heading::East,
+            eta: 0,
+            home: Pos::new(x, 0),
+            target: None,
+        })
+        .collect();
+    let timing = Timing::DEFAULT;
+    let ctx = Context {
+        map: &map,
+        timing,
+        robots: &robots,
+        me: 1,
+    };
+    let searched = |lazy: bool| {
+        let mut fields: Vec<_> = (0..4)
+            .map(|_| DistField::new(vec![PlanCell::EMPTY; min_cells(b.area())]))
+            .collect();
+        let mut c = Candidates::empty(4);
+        let cost = |_: usize, _: usize, d: Ticks| Some(i64::from(d));
+        let planned = Candidates::cheapest(
+            &ctx,
+            &mut fields,
+            4,
+            0,
+            (lazy, true, 0),
+            cost,
+            |_, d| i64::from(d),
+            |_, _| i64::MIN,
+            &mut c,
+        )
+        .unwrap();
+        assert!(planned);
+        let cols = hungarian_cols(&c, AssignmentObjective::MinSum);
+        let got: Vec<Option<u16>> = cols
+            .iter()
+            .take(4)
+            .map(|col| col.map(|col| b.pos(c.nodes[col]).x as u16))
+            .collect();
+        assert_eq!(got, vec![Some(0), None, None, Some(13)], "lazy {lazy}");
+        // How far each frontier node's search went.
+        let mut reach: Vec<(usize, Ticks)> = fields
+            .iter()
+            .filter_map(|f| Some((f.reverse_goal()?, f.reverse_settled_to()?)))
+            .collect();
+        reach.sort_unstable();
+        reach
+    };
+    let (lazy, eager) = (searched(true), searched(false));
+    assert_eq!(lazy.len(), 2);
+    assert_eq!(eager.len(), 2);
+    for (l, e) in lazy.iter().zip(&eager) {
+        assert_eq!(l.0, e.0);
+        assert!(l.1 <= e.1, "lazy {lazy:?} against eager {eager:?}");
+    }
+    // At the west end both robots face away: the second one's U-turn
+    // lies well beyond the first's, and only the eager search goes there.
+    assert!(
+        lazy[0].1 < eager[0].1,
+        "lazy {lazy:?} against eager {eager:?}"
+    );
 }
