@@ -37,6 +37,20 @@ pub struct StartPose {
     pub heading: Heading,
 }
 
+/// A field's name as a native file's `name` line holds it: line breaks and
+/// `#` (which starts a comment there) become spaces, and the ends are
+/// trimmed. Every field's name then writes and reads back unchanged; a
+/// carriage return inside a name line, or a `.sim` file named `a#b.sim`,
+/// had given a name that came back other (found by the `field` fuzz
+/// target).
+fn one_line_name(name: String) -> String {
+    if name.contains(['\n', '\r', '#']) || name.trim().len() != name.len() {
+        name.replace(['\n', '\r', '#'], " ").trim().to_string()
+    } else {
+        name
+    }
+}
+
 /// Node spacing of the 2010 floors, in millimetres.
 pub const DEFAULT_SPACING_MM: u16 = 100;
 
@@ -58,7 +72,7 @@ impl Field {
     ) -> Result<Field, ValidationError> {
         validate::check(&nodes, &starts)?;
         Ok(Field {
-            name: name.into(),
+            name: one_line_name(name.into()),
             nodes,
             starts,
             spacing_mm: DEFAULT_SPACING_MM,
@@ -82,7 +96,7 @@ impl Field {
     /// The same field under another name.
     pub fn with_name(self, name: impl Into<String>) -> Field {
         Field {
-            name: name.into(),
+            name: one_line_name(name.into()),
             ..self
         }
     }

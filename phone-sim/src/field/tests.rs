@@ -195,6 +195,25 @@ fn native_reads_comments_name_and_spacing() {
     assert_eq!(native::parse(&native::write(&f), "g").unwrap(), f);
 }
 
+/// Names write and read back unchanged, whatever they held: a carriage
+/// return inside a native name line (the `field` fuzz target's find) and a
+/// `#` in a `.sim` file's stem had come back other.
+#[test]
+fn every_name_reads_back_as_written() {
+    let f = native::parse(
+        "conquest-field 1\nname a\rb\x00c \nnode 0 0 E\nnode 1 0 W\n",
+        "f.field",
+    )
+    .unwrap();
+    assert_eq!(f.name(), "a b\x00c");
+    assert_eq!(native::parse(&native::write(&f), "g.field").unwrap(), f);
+    let g = sim::parse_sim(STRIP_SIM, "a#b.sim", "a#b").unwrap();
+    assert_eq!(g.name(), "a b");
+    assert_eq!(native::parse(&native::write(&g), "g.field").unwrap(), g);
+    let h = g.with_name(" two\nlines ");
+    assert_eq!(h.name(), "two lines");
+}
+
 #[test]
 fn sep_export_and_import() {
     let f = strip();
