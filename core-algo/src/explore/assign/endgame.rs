@@ -348,39 +348,58 @@ impl Candidates {
         // columns whose search found nobody more when grown: it has settled
         // all it can reach, so the robots not found are out of reach.
         let mut spent = 0u32;
+        // Each column's lower bounds for the robots it has not found,
+        // worked out again only for the columns grown since (the cost
+        // closure is most of a round's work).
+        let mut low = [[INF; MAX_ROBOTS]; MAX_ROBOTS];
+        let mut stale = u32::MAX;
         loop {
-            for col in 0..m {
-                let (Some(s), Some(&node)) = (
+            for col in (0..m).filter(|&col| stale & (1 << col) != 0) {
+                let (Some(s), Some(&node), Some(row)) = (
                     slot.get(col).copied().flatten().map(|(s, _)| s),
                     self.nodes.get(col),
+                    low.get_mut(col),
                 ) else {
                     continue;
                 };
                 let from = fields
                     .get(s)
                     .and_then(|f| f.reverse_settled_to())
-                    .filter(|_| spent & (1 << col) == 0);
+                    .filter(|&t| t < Ticks::MAX && spent & (1 << col) == 0);
                 let found = exact.get(col).copied().unwrap_or(0);
-                self.bound_column(col, found, |j| {
+                for (j, x) in row.iter_mut().enumerate().take(k) {
                     let stands = poses.get(j).is_some_and(Option::is_some);
-                    let at = from.filter(|&t| t < Ticks::MAX && stands)?;
-                    cost(j, node, at)
-                });
+                    *x = match from {
+                        Some(at) if stands && found & (1 << j) == 0 => {
+                            cost(j, node, at).map_or(INF, |x| x.clamp(-INF + 1, INF - 1))
+                        }
+                        _ => INF,
+                    };
+                }
             }
+            stale = 0;
+            // A pair's found cost, else its lower bound.
+            let pair = |j: usize, col: usize| {
+                if exact.get(col).is_some_and(|e| e & (1 << j) != 0) {
+                    self.at(j, col)
+                } else {
+                    low.get(col).and_then(|r| r.get(j)).copied().unwrap_or(INF)
+                }
+            };
             // Transposed (frontier nodes as rows, fewer than the robots):
             // O(m²·k), not O(k³), as it runs once per round. A node no
             // robot can reach is left out; it would take a robot.
             let mut rows = [0usize; MAX_ROBOTS];
             let mut n = 0;
             for col in 0..m {
-                if (0..k).any(|j| self.at(j, col) < INF) {
+                if (0..k).any(|j| pair(j, col) < INF) {
                     if let Some(r) = rows.get_mut(n) {
                         *r = col;
                         n += 1;
                     }
                 }
             }
-            let at = |r: usize, j: usize| rows.get(r).map_or(INF, |&col| self.at(j, col));
+            let at = |r: usize, j: usize| rows.get(r).map_or(INF, |&col| pair(j, col));
             let (robot_of, _) = hungarian_by::<{ MAX_ROBOTS + 1 }>(n, k, 0, at);
             let mut grow = 0u32;
             for (j, &r) in robot_of.iter().enumerate().skip(1).take(k) {
@@ -388,13 +407,9 @@ impl Candidates {
                     continue;
                 };
                 let j = j - 1;
-                if self.at(j, col) < INF && exact.get(col).is_some_and(|e| e & (1 << j) == 0) {
+                if pair(j, col) < INF && exact.get(col).is_some_and(|e| e & (1 << j) == 0) {
                     grow |= 1 << col;
                 }
-            }
-            for col in 0..m {
-                let found = exact.get(col).copied().unwrap_or(0);
-                self.bound_column(col, found, |_| None);
             }
             if grow == 0 {
                 return Ok(true);
@@ -419,6 +434,7 @@ impl Candidates {
                     }
                     *e = now;
                 }
+                stale |= 1 << col;
             }
         }
     }
@@ -428,22 +444,6 @@ impl Candidates {
         (0..self.k)
             .filter(|&j| self.at(j, col) < INF)
             .fold(0, |acc, j| acc | (1 << j))
-    }
-
-    /// Writes `bound(j)` (`None`: `INF`) into column `col` for every robot
-    /// not in `found`.
-    fn bound_column(
-        &mut self,
-        col: usize,
-        found: u32,
-        mut bound: impl FnMut(usize) -> Option<i64>,
-    ) {
-        for j in (0..self.k).filter(|&j| found & (1 << j) == 0) {
-            let x = bound(j).map_or(INF, |x| x.clamp(-INF + 1, INF - 1));
-            if let Some(e) = self.cost.get_mut(j).and_then(|r| r.get_mut(col)) {
-                *e = x;
-            }
-        }
     }
 }
 
