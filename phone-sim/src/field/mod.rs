@@ -44,11 +44,7 @@ pub struct StartPose {
 /// had given a name that came back other (found by the `field` fuzz
 /// target).
 fn one_line_name(name: String) -> String {
-    if name.contains(['\n', '\r', '#']) || name.trim().len() != name.len() {
-        name.replace(['\n', '\r', '#'], " ").trim().to_string()
-    } else {
-        name
-    }
+    name.replace(['\n', '\r', '#'], " ").trim().to_string()
 }
 
 /// Node spacing of the 2010 floors, in millimetres.

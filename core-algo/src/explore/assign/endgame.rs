@@ -299,10 +299,6 @@ impl Candidates {
                 *u = true;
             }
         }
-        // Each column's robots found so far (bit j: robot j): their costs
-        // are exact; the other pairs of the column stay `INF` while it is
-        // searched.
-        let mut exact = [0u32; MAX_ROBOTS];
         let first = if lazy { FIRST_ROBOTS } else { k };
         for col in 0..m {
             let (Some((s, held)), Some(&node)) =
@@ -337,14 +333,13 @@ impl Candidates {
                     column.settled(&poses, near, v, h, key)
                 })?;
             }
-            if let Some(e) = exact.get_mut(col) {
-                *e = self.found_in(col);
-            }
         }
         if !lazy {
             return Ok(true);
         }
-        // Lazy: the rounds of the doc comment above. `spent` marks the
+        // Lazy: the rounds of the doc comment above. A pair the searches
+        // found has its cost in the matrix; the others stay `INF` there.
+        // `spent` marks the
         // columns whose search found nobody more when grown: it has settled
         // all it can reach, so the robots not found are out of reach.
         let mut spent = 0u32;
@@ -366,11 +361,10 @@ impl Candidates {
                     .get(s)
                     .and_then(|f| f.reverse_settled_to())
                     .filter(|&t| t < Ticks::MAX && spent & (1 << col) == 0);
-                let found = exact.get(col).copied().unwrap_or(0);
                 for (j, x) in row.iter_mut().enumerate().take(k) {
                     let stands = poses.get(j).is_some_and(Option::is_some);
                     *x = match from {
-                        Some(at) if stands && found & (1 << j) == 0 => {
+                        Some(at) if stands && self.at(j, col) == INF => {
                             cost(j, node, at).map_or(INF, |x| x.clamp(-INF + 1, INF - 1))
                         }
                         _ => INF,
@@ -379,12 +373,9 @@ impl Candidates {
             }
             stale = 0;
             // A pair's found cost, else its lower bound.
-            let pair = |j: usize, col: usize| {
-                if exact.get(col).is_some_and(|e| e & (1 << j) != 0) {
-                    self.at(j, col)
-                } else {
-                    low.get(col).and_then(|r| r.get(j)).copied().unwrap_or(INF)
-                }
+            let pair = |j: usize, col: usize| match self.at(j, col) {
+                INF => low.get(col).and_then(|r| r.get(j)).copied().unwrap_or(INF),
+                x => x,
             };
             // Transposed (frontier nodes as rows, fewer than the robots):
             // O(m²·k), not O(k³), as it runs once per round. A node no
@@ -407,7 +398,7 @@ impl Candidates {
                     continue;
                 };
                 let j = j - 1;
-                if pair(j, col) < INF && exact.get(col).is_some_and(|e| e & (1 << j) == 0) {
+                if pair(j, col) < INF && self.at(j, col) == INF {
                     grow |= 1 << col;
                 }
             }
@@ -424,15 +415,12 @@ impl Candidates {
                 let Some(rev) = fields.get_mut(s) else {
                     continue;
                 };
-                let want = self.found_in(col).count_ones() as usize + 1;
+                let before = self.found_in(col);
+                let want = before.count_ones() as usize + 1;
                 let mut column = Column::new(self, col, node, want, cost);
                 rev.resume_reverse(map, |v, h, key| column.settled(&poses, near, v, h, key))?;
-                let now = self.found_in(col);
-                if let Some(e) = exact.get_mut(col) {
-                    if *e == now {
-                        spent |= 1 << col;
-                    }
-                    *e = now;
+                if self.found_in(col) == before {
+                    spent |= 1 << col;
                 }
                 stale |= 1 << col;
             }
