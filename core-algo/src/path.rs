@@ -35,6 +35,7 @@ use crate::geometry::{Arms, Heading, Pos};
 use crate::map::{Block, Bounds, KnownMap};
 use crate::timing::{Ticks, Timing};
 use core::fmt;
+pub use corridor::JUMP_SLOTS;
 pub use refresh::way_in;
 use scratch::{DIST_MASK, Dirty, NO_OFF, ON_WAY, Queues, SETTLED_SHIFT};
 pub use scratch::{MAX_DIST, PlanCell, SMALL_WINDOW, min_cells};
@@ -205,6 +206,11 @@ pub struct DistField<S> {
     /// Whether a [`DistField::compute_weighted`] search stands in the
     /// scratch, whose cells mean something else (see `weighted`).
     weighted: bool,
+    /// Whether the search jumps along corridors (see `corridor`): it
+    /// holds no corridor states, so it gives distances, not ways.
+    jumping: bool,
+    /// Jump arrivals not settled yet.
+    jumps: corridor::Jumps,
 }
 
 impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
@@ -224,6 +230,8 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             reverse: None,
             rev_open: None,
             weighted: false,
+            jumping: false,
+            jumps: corridor::Jumps::default(),
         }
     }
 
@@ -294,6 +302,8 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         self.reverse = None;
         self.rev_open = None;
         self.weighted = false;
+        self.jumping = false;
+        self.jumps.reset(s0);
         self.bounds = bounds;
         self.queue = Queues::default();
         self.start = Some((s0, heading));
@@ -321,7 +331,31 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         reached: impl FnMut(usize, Ticks) -> Flow,
     ) -> Result<(), PlanError> {
         self.tree = None;
-        let result = self.search_from(map, timing, (start, heading), |_| true, reached);
+        let result = self.search_from(map, timing, (start, heading, false), |_| true, reached);
+        if result.is_ok() {
+            self.tree = Some(map.revision());
+        }
+        result
+    }
+
+    /// [`DistField::compute`] for callers that ask only distances of nodes
+    /// outside corridors (frontier nodes, junctions, dead ends): it jumps
+    /// along corridors and settles none of their states (see `corridor`),
+    /// so the field gives no ways, and a corridor node is not reached, or
+    /// (when the jump heap was full) may be reached dearer than it is.
+    /// Every other node is reported cheapest first with the distance a
+    /// plain search gives it; nodes at the same distance may come in
+    /// another order. [`DistField::resume`] goes on jumping.
+    pub fn compute_jumping<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        start: Pos,
+        heading: Heading,
+        reached: impl FnMut(usize, Ticks) -> Flow,
+    ) -> Result<(), PlanError> {
+        self.tree = None;
+        let result = self.search_from(map, timing, (start, heading, true), |_| true, reached);
         if result.is_ok() {
             self.tree = Some(map.revision());
         }
@@ -329,17 +363,19 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     }
 
     /// The forward search of [`DistField::compute`] and
-    /// [`DistField::compute_avoiding`]: drives on only from the start and
+    /// [`DistField::compute_avoiding`] (and, `jumping`, of
+    /// [`DistField::compute_jumping`]): drives on only from the start and
     /// from nodes for which `passable` holds.
     fn search_from<M: AsRef<[Block]> + AsMut<[Block]>>(
         &mut self,
         map: &KnownMap<M>,
         timing: Timing,
-        (start, heading): (Pos, Heading),
+        (start, heading, jumping): (Pos, Heading, bool),
         passable: impl Fn(usize) -> bool,
         mut reached: impl FnMut(usize, Ticks) -> Flow,
     ) -> Result<(), PlanError> {
         let s0 = self.prepare(map, timing, start, heading)?;
+        self.jumping = jumping;
         let h0 = usize::from(heading.index());
         self.settle(s0, h0, 0);
         self.queue.pending = Some((s0, h0, 0));
@@ -357,13 +393,18 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         passable: impl Fn(usize) -> bool,
         mut reached: impl FnMut(usize, Ticks) -> Flow,
     ) -> Result<(), PlanError> {
-        self.run::<M, false>(map, passable, |v, _, key, first| {
+        let settled = |v, _, key, first| {
             if first {
                 reached(v, key)
             } else {
                 Flow::Continue
             }
-        })
+        };
+        if self.jumping {
+            self.run::<M, false, true>(map, passable, settled)
+        } else {
+            self.run::<M, false, false>(map, passable, settled)
+        }
     }
 
     /// [`DistField::compute`] grown only until node `goal` is reached (or
@@ -430,6 +471,20 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         start: Pos,
         heading: Heading,
     ) -> bool {
+        !self.jumping && self.is_distance_search_from(map, timing, start, heading)
+    }
+
+    /// Whether this field is a search by [`DistField::compute`] or
+    /// [`DistField::compute_jumping`] from the pose (`start`, `heading`)
+    /// over `map` as it is now: the distances it settled hold, though a
+    /// jumping search holds no ways.
+    pub fn is_distance_search_from<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        start: Pos,
+        heading: Heading,
+    ) -> bool {
         let bounds = map.bounds();
         self.tree == Some(map.revision())
             && self.bounds == bounds
@@ -469,7 +524,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         reached: impl FnMut(usize, Ticks) -> Flow,
     ) -> Result<(), PlanError> {
         self.tree = None;
-        let result = self.search_from(map, timing, pose, |v| !avoid(v), reached);
+        let result = self.search_from(map, timing, (pose.0, pose.1, false), |v| !avoid(v), reached);
         // A resume would go on without `avoid`.
         self.queue = Queues::default();
         self.start = None;
@@ -526,7 +581,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let result = if stop {
             Ok(())
         } else {
-            self.run::<M, true>(
+            self.run::<M, true, false>(
                 map,
                 |_| true,
                 |v, h, key, _| {
@@ -551,6 +606,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
 }
 
 mod astar;
+mod corridor;
 mod descent;
 mod refresh;
 mod scratch;

@@ -2,6 +2,7 @@
 //! and one for quarter turns, over the scratch cells (see the `path`
 //! module docs for the layout).
 
+use super::corridor::{self, Jumps};
 use super::scratch::{DIST_MASK, Dirty, NO_OFF, Queues, SETTLED_SHIFT};
 use super::{
     DistField, Flow, MAX_DIST, PlanCell, PlanError, arms_at, lower_base, neighbour_index, wrap,
@@ -22,7 +23,10 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// behind `&mut self` they were stored and reloaded at every state,
     /// 13 % more instructions for a full field on open and maze 256²
     /// (docs/results/performance.md, stop 38).
-    pub(super) fn run<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool>(
+    ///
+    /// `JUMP` (forward only) drives through corridors in one move, their
+    /// arrivals queued in the jump heap (see `corridor`).
+    pub(super) fn run<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool, const JUMP: bool>(
         &mut self,
         map: &KnownMap<M>,
         passable: impl Fn(usize) -> bool,
@@ -37,6 +41,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let bounds = self.bounds;
         let mut q = self.queue;
         let mut dirty = self.dirty;
+        let jumps = &mut self.jumps;
         let cells = self.cells.as_mut();
         let cap = cells.len();
         let key_of = |cells: &[PlanCell], state: usize| -> Option<Ticks> {
@@ -49,7 +54,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let (mut entry_b, mut key_b) = (0usize, NO_KEY);
         let result = loop {
             if let Some(state) = q.pending.take() {
-                if let Err(e) = expand::<M, REV>(cells, &mut q, map, (bounds, t), &passable, state)
+                let queues = (&mut q, &mut *jumps);
+                if let Err(e) =
+                    expand::<M, REV, JUMP>(cells, queues, map, (bounds, t), &passable, state)
                 {
                     break Err(e);
                 }
@@ -81,11 +88,21 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                     }
                 }
             }
-            if key_a == NO_KEY && key_b == NO_KEY {
+            // A push can put a cheaper arrival on top: read it every time.
+            let key_j = match jumps.least() {
+                Some(k) if JUMP => k,
+                _ => NO_KEY,
+            };
+            if key_a == NO_KEY && key_b == NO_KEY && key_j == NO_KEY {
                 break Ok(());
             }
-            // Ties go to the edge queue.
-            let (v, h, key) = if key_a <= key_b {
+            // Ties go to the edge queue, then the turn queue.
+            let (v, h, key) = if key_j < key_a.min(key_b) {
+                match jumps.pop() {
+                    Some(state) => state,
+                    None => continue,
+                }
+            } else if key_a <= key_b {
                 let key = key_a;
                 key_a = NO_KEY;
                 q.a_head = wrap(q.a_head + 1, cap);
@@ -135,10 +152,14 @@ const NO_KEY: Ticks = Ticks::MAX;
 /// on a heading's tentative offset into the turn ring. Every node a
 /// reverse search settles (but the goal, whose states are all settled at
 /// 0) was entered along an edge, so it is passable and may turn.
+///
+/// `JUMP`: an edge into a corridor goes on to its far end (see
+/// `corridor::walk`) and queues the arrival in `jumps`, unless that is
+/// full.
 #[inline(always)]
-fn expand<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool>(
+fn expand<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool, const JUMP: bool>(
     cells: &mut [PlanCell],
-    q: &mut Queues,
+    (q, jumps): (&mut Queues, &mut Jumps),
     map: &KnownMap<M>,
     (bounds, t): (Bounds, Timing),
     passable: &impl Fn(usize) -> bool,
@@ -162,7 +183,21 @@ fn expand<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool>(
         }
     };
     if let Some(w) = drive.filter(|_| d + t.edge <= MAX_DIST) {
-        if !cells.get(w).is_some_and(|c| c.settled(h)) {
+        let jump = if JUMP && !REV && !jumps.spill_if_full() {
+            let from = (&*cells, &*jumps);
+            match corridor::walk(from, map, (bounds, t), passable, (w, h, d + t.edge)) {
+                (end, true) => Some(end),
+                (_, false) => None,
+            }
+        } else {
+            None
+        };
+        if let Some((x, hx, key)) = jump {
+            if !cells.get(x).is_some_and(|c| c.settled(hx)) {
+                // Not full: checked above.
+                jumps.push((x, hx, key));
+            }
+        } else if !cells.get(w).is_some_and(|c| c.settled(h)) {
             if q.a_len == cap {
                 return Err(PlanError::QueueFull);
             }

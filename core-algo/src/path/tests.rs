@@ -768,3 +768,100 @@ proptest! {
         prop_assert_eq!(f.path_passes_any(&map, target, &vias), each);
     }
 }
+
+/// A known map of the first `known` nodes, by BFS from node 0, of a field
+/// with `arms`.
+fn known_prefix(bounds: Bounds, arms: &[Arms], known: usize) -> KnownMap<Vec<Block>> {
+    let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(bounds.area())], bounds).unwrap();
+    for i in bfs_order(bounds, arms).into_iter().take(known) {
+        map.visit(bounds.pos(i), arms[i], RobotId(0)).unwrap();
+    }
+    map
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    /// A jumping search reports every node outside corridors (frontier
+    /// nodes, junctions, dead ends, the start) at the distance a plain
+    /// search gives it, cheapest first, each once, stopped and resumed
+    /// anywhere, on mazes (mostly corridors) and open random fields, from
+    /// any known node. With its jump heap full it falls back to plain
+    /// drives and still agrees; it gives no ways; and a plain search
+    /// reuses its scratch cleanly.
+    #[test]
+    fn jumping_field_agrees_on_every_node_outside_corridors(
+        w in 1u16..14, h in 1u16..14, seed in any::<u64>(), frac in 0.0f64..1.0, h0 in 0u8..4,
+        edge in 1u32..200, turn in 1u32..128, maze in any::<bool>(), start in any::<usize>(),
+        free_slots in 0usize..4, stop_after in 1usize..8,
+    ) {
+        let area = usize::from(w) * usize::from(h);
+        let b = Bounds::new(Pos::new(0, 0), w, h);
+        let arms = if maze { tree_arms(b, seed) } else { random_arms(b, seed) };
+        let known = (area as f64 * frac) as usize + 1;
+        let map = known_prefix(b, &arms, known);
+        let order = bfs_order(b, &arms);
+        let s0 = order[start % order.len().min(known)];
+        let (p0, hd0) = (b.pos(s0), Heading::from_index(h0));
+        let t = Timing { edge, quarter_turn: turn };
+        let want = brute(&map, t, s0, usize::from(h0));
+        let mut plain = field_for(area);
+        plain.compute(&map, t, p0, hd0, |_, _| Flow::Continue).unwrap();
+        // Full: a heap with `free_slots` left (none: every drive plain).
+        for full in [false, true] {
+            // Filled before its first expansion, a heap with no slot left
+            // sends every drive in plain.
+            let all_plain = full && free_slots == 0;
+            let stop_after = if all_plain { 1 } else { stop_after };
+            let mut f = field_for(area);
+            let mut seen = Vec::new();
+            f.compute_jumping(&map, t, p0, hd0, |i, d| {
+                seen.push((i, d));
+                if seen.len() == stop_after { Flow::Stop } else { Flow::Continue }
+            }).unwrap();
+            if full {
+                // Entries for states beyond the scratch, dropped when popped.
+                let junk = (f.cells.len() + 1) * 4;
+                while f.jumps.len() + free_slots < JUMP_SLOTS {
+                    f.jumps.push((junk / 4, 0, MAX_DIST));
+                }
+            }
+            f.resume(&map, |i, d| {
+                seen.push((i, d));
+                Flow::Continue
+            }).unwrap();
+            prop_assert!(seen.windows(2).all(|p| p[0].1 <= p[1].1), "{:?}", seen);
+            let mut once = seen.iter().map(|&(i, _)| i).collect::<Vec<_>>();
+            once.sort_unstable();
+            once.dedup();
+            prop_assert_eq!(once.len(), seen.len());
+            // A corridor node the search went into plain (the heap full)
+            // after a jump passed it may be dearer than it is.
+            let corridor = |v: usize| v != s0 && arms_at(&map, v).is_some_and(|a| a.count() == 2);
+            for &(i, d) in seen.iter().filter(|&&(i, _)| !corridor(i)) {
+                prop_assert_eq!(Some(d), plain.dist_at(i), "node {:?}", b.pos(i));
+            }
+            for v in 0..area {
+                let reached = (0..4).filter_map(|k| want[v * 4 + k]).min();
+                if !corridor(v) {
+                    prop_assert_eq!(f.dist_at(v), reached, "node {:?}", b.pos(v));
+                    prop_assert_eq!(reached.is_some(), seen.iter().any(|&(i, _)| i == v));
+                }
+                prop_assert_eq!(f.first_heading(&map, v), None);
+            }
+            // With no slot free it is the plain search, in the same order.
+            if all_plain {
+                let mut all = Vec::new();
+                plain.compute(&map, t, p0, hd0, |i, d| { all.push((i, d)); Flow::Continue }).unwrap();
+                prop_assert_eq!(&seen, &all);
+            }
+            prop_assert!(!f.is_search_from(&map, t, p0, hd0));
+            prop_assert!(f.is_distance_search_from(&map, t, p0, hd0));
+            f.compute(&map, t, p0, hd0, |_, _| Flow::Continue).unwrap();
+            for v in 0..area {
+                prop_assert_eq!(f.dist_at(v), plain.dist_at(v));
+                prop_assert_eq!(f.first_heading(&map, v), plain.first_heading(&map, v));
+            }
+        }
+    }
+}

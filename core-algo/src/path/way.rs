@@ -73,6 +73,10 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// node `target` ends: its cheapest heading.
     fn last_state(&self, target: usize) -> Option<State> {
         self.start?;
+        // A jumping search settled no corridor state to walk back through.
+        if self.jumping {
+            return None;
+        }
         let cell = self.cells.as_ref().get(target)?;
         let h = (0..4).find(|&h| cell.pose_dist(h) == cell.dist())?;
         Some((target, h, cell.pose_dist(h)?))
@@ -311,7 +315,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let q = &self.queue;
         let complete = q.a_len == 0 && q.b_len == 0 && q.pending.is_none();
         let rev = map.revision();
-        if !complete || self.tree != Some(rev) || vias.len() > MAX_VIAS {
+        if !complete || self.jumping || self.tree != Some(rev) || vias.len() > MAX_VIAS {
             return self.path_passes_any(map, v, vias);
         }
         let same = matches!(&self.memo, Some((k, r)) if *r == rev && k.as_slice() == vias);

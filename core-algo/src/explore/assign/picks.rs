@@ -142,7 +142,7 @@ impl Picks {
             }
         };
         if start {
-            field.compute(map, ctx.timing, r.pos, r.heading, reached)
+            field.compute_jumping(map, ctx.timing, r.pos, r.heading, reached)
         } else {
             field.resume(map, reached)
         }

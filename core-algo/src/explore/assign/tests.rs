@@ -136,17 +136,17 @@ proptest! {
         for j in 0..k {
             if left_out & (1 << j) != 0 {
                 prop_assert_eq!(cols[j], None);
-                prop_assert!(!fields[j].is_search_from(&map, timing, robots[j].pos, robots[j].heading));
+                prop_assert!(!fields[j].is_distance_search_from(&map, timing, robots[j].pos, robots[j].heading));
             }
         }
-        // The decider's field is its own search, and it reaches every node
-        // the decider may be given: tempo takes the way from it. The
-        // reverse endgame searches no field of the decider's (tempo then
-        // searches as far as the node it gets).
+        // The decider's field is its own search (jumping along corridors,
+        // so tempo then searches its way), and it reaches every node the
+        // decider may be given. The reverse endgame searches no field of
+        // the decider's.
         let (mine, r) = (me % k, &robots[me % k]);
         let endgame = reverse && map.frontier_len() < k;
         prop_assert!(
-            endgame || c.m == 0 || fields[mine].is_search_from(&map, timing, r.pos, r.heading)
+            endgame || c.m == 0 || fields[mine].is_distance_search_from(&map, timing, r.pos, r.heading)
         );
         for col in 0..c.m {
             if !endgame && c.cost[mine][col] < INF {

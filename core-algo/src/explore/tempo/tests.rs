@@ -564,7 +564,8 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
 
     /// `search_to` leaves the decider's field holding the way a whole
-    /// search holds, ties included, to every reachable frontier node.
+    /// search holds, ties included, to every reachable frontier node,
+    /// also after a jumping search from the same pose.
     #[test]
     fn search_to_holds_the_whole_search_s_way(
         w in 2u16..12, h in 2u16..12, seed in any::<u64>(), frac in 0.05f64..1.0,
@@ -586,11 +587,21 @@ proptest! {
             if whole.dist_at(i).is_none() {
                 continue;
             }
-            part.compute_reverse(&map, ctx.timing, p, |_, _, _| Flow::Continue).unwrap();
-            search_to(&ctx, part, i).unwrap();
-            prop_assert!(part.is_search_from(&map, ctx.timing, r.pos, r.heading));
-            prop_assert_eq!(part.first_heading(&map, i), whole.first_heading(&map, i));
-            prop_assert_eq!(part.dist_at(i), whole.dist_at(i));
+            // After another search, and after the middle game's picks (a
+            // jumping search from the same pose, which holds no way).
+            for jumped in [false, true] {
+                if jumped {
+                    part.compute_jumping(&map, ctx.timing, r.pos, r.heading, |_, _| Flow::Continue)
+                        .unwrap();
+                    prop_assert_eq!(part.dist_at(i), whole.dist_at(i));
+                } else {
+                    part.compute_reverse(&map, ctx.timing, p, |_, _, _| Flow::Continue).unwrap();
+                }
+                search_to(&ctx, part, i).unwrap();
+                prop_assert!(part.is_search_from(&map, ctx.timing, r.pos, r.heading));
+                prop_assert_eq!(part.first_heading(&map, i), whole.first_heading(&map, i));
+                prop_assert_eq!(part.dist_at(i), whole.dist_at(i));
+            }
         }
     }
 }
