@@ -6,6 +6,8 @@
 //! - `field/bfs`: a plain node BFS over the same known graph (the floor).
 //! - `field/full`: the full turn-aware field from the robot (what a
 //!   centralised strategy pays per robot).
+//! - `field/jumping`: the same field jumping along corridors (what the
+//!   middle game's picks search).
 //! - `legacy/astar_per_frontier`: the 2010 approach, one A* per frontier
 //!   node (64² and 256²).
 //! - `peer/dijkstra_all`: `pathfinding::dijkstra_all` over the same
@@ -110,6 +112,16 @@ fn bench_explore(c: &mut Criterion) {
             bch.iter(|| {
                 fields[0]
                     .compute(&cs.map, t, cs.robots[0].pos, Heading::North, |_, _| {
+                        Flow::Continue
+                    })
+                    .expect("field");
+                black_box(fields[0].dist_at(0))
+            })
+        });
+        g.bench_function(BenchmarkId::new("field/jumping", &cs.name), |bch| {
+            bch.iter(|| {
+                fields[0]
+                    .compute_jumping(&cs.map, t, cs.robots[0].pos, Heading::North, |_, _| {
                         Flow::Continue
                     })
                     .expect("field");

@@ -87,6 +87,9 @@ enum Back {
     /// The path drove into state `into` (after undoing any turns on the
     /// spot) from state `from`.
     Drive { into: State, from: State },
+    /// A jumping search's path drove into state `into` through a corridor
+    /// from state `from`, at its other end (see `corridor::back`).
+    Corridor { into: State, from: State },
     /// No predecessor: the path is broken (not reached).
     Lost,
 }
@@ -340,9 +343,11 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
 
     /// [`DistField::compute`] for callers that ask only distances of nodes
     /// outside corridors (frontier nodes, junctions, dead ends): it jumps
-    /// along corridors and settles none of their states (see `corridor`),
-    /// so the field gives no ways, and a corridor node is not reached, or
-    /// (when the jump heap was full) may be reached dearer than it is.
+    /// along corridors and settles none of their states (see `corridor`):
+    /// a corridor node is not reached, or (when the jump heap was full)
+    /// may be reached dearer than it is. Ways are read through corridors,
+    /// as a plain search gives them, unless [`DistField::holds_ways`]
+    /// says otherwise.
     /// Every other node is reported cheapest first with the distance a
     /// plain search gives it; nodes at the same distance may come in
     /// another order. [`DistField::resume`] goes on jumping.
@@ -474,10 +479,17 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         !self.jumping && self.is_distance_search_from(map, timing, start, heading)
     }
 
+    /// Whether ways can be read from this field: not from a jumping search
+    /// that went into a corridor plain (its heap full), whose corridor
+    /// nodes may hold states dearer than they are.
+    pub fn holds_ways(&self) -> bool {
+        !(self.jumping && self.jumps.spilled())
+    }
+
     /// Whether this field is a search by [`DistField::compute`] or
     /// [`DistField::compute_jumping`] from the pose (`start`, `heading`)
-    /// over `map` as it is now: the distances it settled hold, though a
-    /// jumping search holds no ways.
+    /// over `map` as it is now: the distances it settled hold (a jumping
+    /// search's outside corridors).
     pub fn is_distance_search_from<M: AsRef<[Block]> + AsMut<[Block]>>(
         &self,
         map: &KnownMap<M>,

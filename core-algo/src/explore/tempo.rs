@@ -687,6 +687,18 @@ where
     if field.is_search_from(ctx.map, ctx.timing, r.pos, r.heading) && field.dist_at(i).is_some() {
         return Ok(());
     }
+    // The middle game's picks: a jumping search from this pose, whose ways
+    // are read through corridors. Grown as far as the plain search below
+    // would go, it holds the same way (maze 256², 16 robots: the plain
+    // search cost a third of the states the picks did).
+    if field.is_distance_search_from(ctx.map, ctx.timing, r.pos, r.heading) && field.holds_ways() {
+        if let Some(at) = field.dist_at(i) {
+            return field.resume(
+                ctx.map,
+                |_, d| if d > at { Flow::Stop } else { Flow::Continue },
+            );
+        }
+    }
     let mut at = None;
     field.compute(ctx.map, ctx.timing, r.pos, r.heading, |v, d| {
         if at.is_some_and(|a| d > a) {

@@ -24,6 +24,7 @@
 
 use super::scratch::PlanCell;
 use super::{MAX_DIST, arms_at, neighbour_index};
+use crate::geometry::Heading;
 use crate::map::{Block, Bounds, KnownMap};
 use crate::timing::{Ticks, Timing};
 
@@ -81,6 +82,12 @@ impl Jumps {
         Some((s / 4, s % 4, (e >> 32) as Ticks))
     }
 
+    /// Whether a drive went into a corridor plain: then corridor nodes
+    /// may hold states dearer than they are, and no way is read.
+    pub(super) fn spilled(&self) -> bool {
+        self.spilled
+    }
+
     /// How many arrivals are queued.
     #[cfg(test)]
     pub(super) fn len(&self) -> usize {
@@ -122,8 +129,7 @@ pub(super) fn walk<M: AsRef<[Block]> + AsMut<[Block]>>(
         let out = (bits & !back).trailing_zeros() as usize;
         let turn = if out == h { 0 } else { t.quarter_turn };
         let next = key + turn + t.edge;
-        let Some(n) = neighbour_index(bounds, v, crate::geometry::Heading::from_index(out as u8))
-        else {
+        let Some(n) = neighbour_index(bounds, v, Heading::from_index(out as u8)) else {
             break;
         };
         if next > MAX_DIST {
@@ -133,4 +139,83 @@ pub(super) fn walk<M: AsRef<[Block]> + AsMut<[Block]>>(
         jumped = true;
     }
     ((v, h, key), jumped)
+}
+
+/// The arm of node `v` other than `toward` (a heading index), if `v` is a
+/// node a walk passes (two known arms, one of them `toward`, not the
+/// `start`), for a search that never went into a corridor plain.
+fn other_arm<M: AsRef<[Block]> + AsMut<[Block]>>(
+    map: &KnownMap<M>,
+    start: usize,
+    v: usize,
+    toward: usize,
+) -> Option<usize> {
+    let bits = arms_at(map, v)?.bits();
+    let to = 1u8 << (toward & 3);
+    (v != start && bits.count_ones() == 2 && bits & to != 0)
+        .then(|| (bits & !to).trailing_zeros() as usize)
+}
+
+/// The state a walk began from to arrive in state (`v`, `h`) at `d`, if
+/// the node behind `v` is a corridor node: (entry node, the heading it
+/// drove into the corridor with, the key that state must hold). The walk
+/// back mirrors [`walk`]: an edge per node and a quarter turn per bend.
+pub(super) fn back<M: AsRef<[Block]> + AsMut<[Block]>>(
+    map: &KnownMap<M>,
+    (bounds, t): (Bounds, Timing),
+    start: usize,
+    (v, h, d): (usize, usize, Ticks),
+) -> Option<(usize, usize, Ticks)> {
+    let mut cur = neighbour_index(bounds, v, Heading::from_index(((h + 2) & 3) as u8))?;
+    let mut out = h;
+    let mut other = other_arm(map, start, cur, out)?;
+    let mut cost = t.edge;
+    for _ in 0..bounds.area() {
+        let into = (other + 2) & 3;
+        let turn = if into == out { 0 } else { t.quarter_turn };
+        cost = cost.checked_add(turn + t.edge)?;
+        let prev = neighbour_index(bounds, cur, Heading::from_index(other as u8))?;
+        match other_arm(map, start, prev, into) {
+            Some(o) => (cur, out, other) = (prev, into, o),
+            None => {
+                let enters = arms_at(map, prev)?.has(Heading::from_index(into as u8));
+                return enters.then_some((prev, into, d.checked_sub(cost)?));
+            }
+        }
+    }
+    None
+}
+
+/// Calls `drive(node, heading, key)` for every state driven into on the
+/// corridor way back from state `into` (that one first) to node `entry`
+/// (not included), as [`back`] found it, until `drive` says `false`.
+pub(super) fn drives_back<M: AsRef<[Block]> + AsMut<[Block]>>(
+    map: &KnownMap<M>,
+    (bounds, t): (Bounds, Timing),
+    (v, h, d): (usize, usize, Ticks),
+    entry: usize,
+    mut drive: impl FnMut(usize, usize, Ticks) -> bool,
+) {
+    if !drive(v, h, d) {
+        return;
+    }
+    let back =
+        |v: usize, h: usize| neighbour_index(bounds, v, Heading::from_index(((h + 2) & 3) as u8));
+    let (mut cur, mut out, mut key) = (back(v, h), h, d.saturating_sub(t.edge));
+    for _ in 0..bounds.area() {
+        let Some(c) = cur.filter(|&c| c != entry) else {
+            return;
+        };
+        // The start never lies inside a corridor (`back` stops there).
+        let Some(other) = other_arm(map, usize::MAX, c, out) else {
+            return;
+        };
+        let into = (other + 2) & 3;
+        let turn = if into == out { 0 } else { t.quarter_turn };
+        let arrival = key.saturating_sub(turn);
+        if !drive(c, into, arrival) {
+            return;
+        }
+        (cur, out, key) = (back(c, into), into, arrival.saturating_sub(t.edge));
+    }
 }

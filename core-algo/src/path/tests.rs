@@ -780,7 +780,7 @@ fn known_prefix(bounds: Bounds, arms: &[Arms], known: usize) -> KnownMap<Vec<Blo
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(128))]
+    #![proptest_config(ProptestConfig::with_cases(1024))]
 
     /// A jumping search reports every node outside corridors (frontier
     /// nodes, junctions, dead ends, the start) at the distance a plain
@@ -847,7 +847,49 @@ proptest! {
                     prop_assert_eq!(f.dist_at(v), reached, "node {:?}", b.pos(v));
                     prop_assert_eq!(reached.is_some(), seen.iter().any(|&(i, _)| i == v));
                 }
-                prop_assert_eq!(f.first_heading(&map, v), None);
+                // Ways read through corridors are the plain search's, ties
+                // included, unless the heap spilled.
+                if corridor(v) || !f.holds_ways() {
+                    prop_assert_eq!(f.first_heading(&map, v), None);
+                    continue;
+                }
+                prop_assert_eq!(f.first_heading(&map, v), plain.first_heading(&map, v));
+                let mut way = vec![Pos::new(0, 0); area + 1];
+                let mut got = vec![Pos::new(0, 0); area + 1];
+                let n = plain.path(&map, v, &mut way);
+                prop_assert_eq!(f.path(&map, v, &mut got), n);
+                prop_assert_eq!(&got[..n.unwrap_or(0)], &way[..n.unwrap_or(0)]);
+                // Every state driven into, with its distance.
+                let drives = |g: &DistField<Vec<PlanCell>>| {
+                    let mut all = Vec::new();
+                    g.walk_back_while(&map, v, |u, hd, d| { all.push((u, hd, d)); Flow::Continue });
+                    all
+                };
+                prop_assert_eq!(drives(&f), drives(&plain));
+                // Which nodes it passes, corridor nodes too.
+                for via in (0..area).step_by(3) {
+                    prop_assert_eq!(f.path_passes(&map, v, via), plain.path_passes(&map, v, via));
+                    let vias = [via, (via * 7 + 1) % area];
+                    prop_assert_eq!(
+                        f.path_passes_any(&map, v, &vias),
+                        plain.path_passes_any(&map, v, &vias)
+                    );
+                }
+                prop_assert_eq!(
+                    f.first_back(&map, v, &corridor),
+                    plain.first_back(&map, v, &corridor)
+                );
+                // From every pose on the way, the rest of it.
+                for &p in &way[..n.unwrap_or(0)] {
+                    for hd in Heading::ALL {
+                        let at = b.index(p).unwrap();
+                        prop_assert_eq!(
+                            f.heading_after(&map, v, at, hd),
+                            plain.heading_after(&map, v, at, hd),
+                            "to {:?} from {:?} {:?}", b.pos(v), p, hd
+                        );
+                    }
+                }
             }
             // With no slot free it is the plain search, in the same order.
             if all_plain {
@@ -857,6 +899,7 @@ proptest! {
             }
             prop_assert!(!f.is_search_from(&map, t, p0, hd0));
             prop_assert!(f.is_distance_search_from(&map, t, p0, hd0));
+            prop_assert!(full || f.holds_ways());
             f.compute(&map, t, p0, hd0, |_, _| Flow::Continue).unwrap();
             for v in 0..area {
                 prop_assert_eq!(f.dist_at(v), plain.dist_at(v));

@@ -3,7 +3,7 @@
 //! that node?" costs one look-up instead of a walk.
 
 use super::{
-    Back, DistField, Flow, MAX_VIAS, Marked, ON_WAY, PlanCell, State, Vias, arms_at,
+    Back, DistField, Flow, MAX_VIAS, Marked, ON_WAY, PlanCell, State, Vias, arms_at, corridor,
     neighbour_index,
 };
 use crate::geometry::{Heading, Pos};
@@ -42,7 +42,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
 
     /// [`DistField::walk_back`] that also passes the distance of each state
     /// driven into, and stops (returning `true`) when `step` says so.
-    fn walk_back_while<M: AsRef<[Block]> + AsMut<[Block]>>(
+    pub(super) fn walk_back_while<M: AsRef<[Block]> + AsMut<[Block]>>(
         &self,
         map: &KnownMap<M>,
         target: usize,
@@ -64,6 +64,18 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                     }
                     state = from;
                 }
+                Back::Corridor { into, from } => {
+                    let mut stopped = false;
+                    let bt = (self.bounds, self.timing);
+                    corridor::drives_back(map, bt, into, from.0, |v, h, d| {
+                        stopped = stopped || step(v, Heading::from_index(h as u8), d) == Flow::Stop;
+                        !stopped
+                    });
+                    if stopped {
+                        return true;
+                    }
+                    state = from;
+                }
             }
         }
         false
@@ -73,8 +85,8 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// node `target` ends: its cheapest heading.
     fn last_state(&self, target: usize) -> Option<State> {
         self.start?;
-        // A jumping search settled no corridor state to walk back through.
-        if self.jumping {
+        // Nor through a corridor a jumping search went into plain.
+        if self.jumping && self.jumps.spilled() {
             return None;
         }
         let cell = self.cells.as_ref().get(target)?;
@@ -103,6 +115,18 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                     into: (v, h, d),
                     from: (u, h, d - t.edge),
                 };
+            }
+            if self.jumping {
+                let cells = self.cells.as_ref();
+                let entered = corridor::back(map, (self.bounds, t), s0, (v, h, d));
+                if let Some((x, hx, dx)) = entered {
+                    if cells.get(x).and_then(|c| c.pose_dist(hx)) == Some(dx) {
+                        return Back::Corridor {
+                            into: (v, h, d),
+                            from: (x, hx, dx),
+                        };
+                    }
+                }
             }
             let cv = self.cells.as_ref().get(v);
             let turn = [(h + 3) & 3, (h + 1) & 3].into_iter().find(|&hp| {
@@ -159,6 +183,17 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         next.filter(|_| passed)
     }
 
+    /// The distance below which a walk back cannot meet node `via` any
+    /// more: its own, or 0 for a node a jumping search did not reach (it
+    /// may lie inside a corridor the way passes); `None` if no way can
+    /// pass it.
+    fn walk_floor(&self, via: usize) -> Option<Ticks> {
+        match self.dist_at(via) {
+            None if self.jumping && self.holds_ways() => Some(0),
+            d => d,
+        }
+    }
+
     /// Whether the cheapest path to node `target` drives through node
     /// `via` (the target counts, the start does not). Used to keep out of a
     /// team mate's way home.
@@ -171,7 +206,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         // Distances fall along the walk back: once below `via`'s own, the
         // walk cannot meet it any more (homecoming asks this for many nodes
         // near the end of long paths).
-        let Some(dv) = self.dist_at(via) else {
+        let Some(dv) = self.walk_floor(via) else {
             return false;
         };
         if self.way == Some((Marked::Way(target), map.revision())) {
@@ -209,7 +244,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         }
         // Distances fall along the walk back: below the nearest via's, it
         // cannot meet any of them any more.
-        let Some(dv) = vias.iter().filter_map(|&via| self.dist_at(via)).min() else {
+        let Some(dv) = vias.iter().filter_map(|&via| self.walk_floor(via)).min() else {
             return false;
         };
         let mut hit = false;
@@ -232,7 +267,8 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// hundreds of edges, that was most of a run. One way per field is
     /// marked at a time; the marks live in a bit of the settled cells' ring
     /// slots, which the next search clears. Returns whether `target` was
-    /// reached.
+    /// reached; a jumping search is never marked (its corridor cells are
+    /// not its own to write).
     pub fn mark_way<M: AsRef<[Block]> + AsMut<[Block]>>(
         &mut self,
         map: &KnownMap<M>,
@@ -343,7 +379,8 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                 break;
             }
             match self.step_back(map, state) {
-                Back::Start | Back::Lost => break,
+                // Memos are never kept on jumping searches.
+                Back::Start | Back::Lost | Back::Corridor { .. } => break,
                 Back::Drive { into, from } => {
                     if vias.contains(&into.0) {
                         answer = true;
@@ -365,7 +402,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             }
             self.set_memo(state, answer);
             match self.step_back(map, state) {
-                Back::Start | Back::Lost => break,
+                Back::Start | Back::Lost | Back::Corridor { .. } => break,
                 Back::Drive { into, from } => {
                     if vias.contains(&into.0) || into.2 < dv {
                         break;
@@ -435,7 +472,8 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         for _ in 0..self.bounds.area().saturating_add(1) {
             match self.step_back(map, state) {
                 Back::Start => return true,
-                Back::Lost => return false,
+                // Marks live on settled cells, which a corridor's are not.
+                Back::Lost | Back::Corridor { .. } => return false,
                 Back::Drive { into, from } => {
                     if let Some(c) = self.cells.as_mut().get_mut(into.0) {
                         if on {

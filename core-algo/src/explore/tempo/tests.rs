@@ -598,7 +598,7 @@ proptest! {
                     part.compute_reverse(&map, ctx.timing, p, |_, _, _| Flow::Continue).unwrap();
                 }
                 search_to(&ctx, part, i).unwrap();
-                prop_assert!(part.is_search_from(&map, ctx.timing, r.pos, r.heading));
+                prop_assert!(part.is_distance_search_from(&map, ctx.timing, r.pos, r.heading));
                 prop_assert_eq!(part.first_heading(&map, i), whole.first_heading(&map, i));
                 prop_assert_eq!(part.dist_at(i), whole.dist_at(i));
             }
