@@ -174,6 +174,9 @@ pub struct KnownMap<S> {
     blocks: S,
     bounds: Bounds,
     visited: u32,
+    /// Visited nodes with exactly two arms (see
+    /// [`KnownMap::two_armed_len`]).
+    two_armed: u32,
     frontier: u32,
     deduced: u32,
     revision: u32,
@@ -200,6 +203,7 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
             blocks: storage,
             bounds,
             visited: 0,
+            two_armed: 0,
             frontier: 0,
             deduced: 0,
             diagonals: None,
@@ -212,6 +216,7 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
     pub fn clear(&mut self) {
         self.blocks.as_mut().fill(Block::EMPTY);
         self.visited = 0;
+        self.two_armed = 0;
         self.frontier = 0;
         self.deduced = 0;
         self.diagonals = None;
@@ -259,6 +264,14 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
     /// Number of visited nodes.
     pub fn visited_len(&self) -> usize {
         self.visited as usize
+    }
+
+    /// Number of visited nodes with exactly two arms: corridor nodes, bends
+    /// included. Four in five of a maze's nodes, one in ten of a rooms
+    /// field's: a planner chooses by it whether jumping along corridors
+    /// pays (see `DistField::compute_jumping`).
+    pub fn two_armed_len(&self) -> usize {
+        self.two_armed as usize
     }
 
     /// Number of nodes whose shape is known: visited, or deduced (four
@@ -367,6 +380,7 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
             c.first_visitor = robot.0;
         });
         self.visited += 1;
+        self.two_armed += u32::from(arms.count() == 2);
         let (x, y) = (i32::from(p.x), i32::from(p.y));
         let here = [x + y, x - y, -x + y, -x - y];
         self.diagonals = Some(match self.diagonals {

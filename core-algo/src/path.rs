@@ -406,9 +406,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             }
         };
         if self.jumping {
-            self.run::<M, false, true>(map, passable, settled)
+            self.run_jumping(map, passable, settled)
         } else {
-            self.run::<M, false, false>(map, passable, settled)
+            self.run::<M, false>(map, passable, settled)
         }
     }
 
@@ -593,7 +593,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let result = if stop {
             Ok(())
         } else {
-            self.run::<M, true, false>(
+            self.run::<M, true>(
                 map,
                 |_| true,
                 |v, h, key, _| {

@@ -245,8 +245,26 @@ pub(super) fn random_team(
     frac: f64,
     k: usize,
 ) -> (KnownMap<Vec<Block>>, Vec<RobotView>) {
+    random_team_in(w, h, (seed, false), frac, k)
+}
+
+/// [`random_team`] on a perfect maze (mostly corridors, where the picks'
+/// searches jump) if `maze`.
+pub(super) fn random_team_in(
+    w: u16,
+    h: u16,
+    (seed, maze): (u64, bool),
+    frac: f64,
+    k: usize,
+) -> (KnownMap<Vec<Block>>, Vec<RobotView>) {
     let area = usize::from(w) * usize::from(h);
-    let map = crate::path::tests::random_known(w, h, seed, (area as f64 * frac) as usize + 1);
+    let known = (area as f64 * frac) as usize + 1;
+    let map = if maze {
+        let b = crate::map::Bounds::new(Pos::new(0, 0), w, h);
+        crate::path::tests::known_prefix(b, &crate::path::tests::tree_arms(b, seed), known)
+    } else {
+        crate::path::tests::random_known(w, h, seed, known)
+    };
     let b = map.bounds();
     let known: Vec<usize> = (0..area)
         .filter(|&i| crate::path::arms_at(&map, i).is_some())

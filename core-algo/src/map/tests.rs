@@ -250,6 +250,8 @@ proptest! {
             prop_assert_eq!(m.frontier().collect::<Vec<_>>(), expected.clone());
             prop_assert_eq!(m.frontier_len(), expected.len());
             prop_assert_eq!(m.visited_len(), m.visited().count());
+            let two = m.visited().filter(|(_, c)| c.arms().is_some_and(|a| a.count() == 2)).count();
+            prop_assert_eq!(m.two_armed_len(), two);
             // The farthest visited node from anywhere, and no frontier node
             // more than one step beyond it.
             for from in [Pos::new(-3, -4), Pos::new(4, 3), Pos::new(0, 0), Pos::new(-3, 3)] {

@@ -61,7 +61,8 @@ impl Jumps {
             .is_ok()
     }
 
-    /// Whether no arrival can be queued: the drive goes in plain.
+    /// Whether no arrival can be queued: then the drive goes in plain, and
+    /// the search has spilled.
     #[inline]
     pub(super) fn spill_if_full(&mut self) -> bool {
         self.spilled |= self.heap.is_full();

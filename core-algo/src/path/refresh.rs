@@ -273,7 +273,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         if self.rev_open.is_none_or(|(_, r)| r != map.revision()) {
             return Ok(());
         }
-        let result = self.run::<M, true, false>(
+        let result = self.run::<M, true>(
             map,
             |_| true,
             |v, h, key, _| reached(v, Heading::from_index(h as u8), key),

@@ -24,9 +24,116 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// 13 % more instructions for a full field on open and maze 256²
     /// (docs/results/performance.md, stop 38).
     ///
-    /// `JUMP` (forward only) drives through corridors in one move, their
-    /// arrivals queued in the jump heap (see `corridor`).
-    pub(super) fn run<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool, const JUMP: bool>(
+    pub(super) fn run<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool>(
+        &mut self,
+        map: &KnownMap<M>,
+        passable: impl Fn(usize) -> bool,
+        mut settled: impl FnMut(usize, usize, Ticks, bool) -> Flow,
+    ) -> Result<(), PlanError> {
+        // The marks share the ring slots that the queues are about to use.
+        self.unmark_way(map);
+        if self.memo.take().is_some() {
+            self.clear_memo();
+        }
+        let t = self.timing;
+        let bounds = self.bounds;
+        let mut q = self.queue;
+        let mut dirty = self.dirty;
+        let cells = self.cells.as_mut();
+        let cap = cells.len();
+        let key_of = |cells: &[PlanCell], state: usize| -> Option<Ticks> {
+            cells.get(state / 4).and_then(|c| c.pose_dist(state % 4))
+        };
+        // The queues' heads as (entry, key), read once per head: a head's
+        // key stays what it was until that head is popped (its source
+        // state is settled, so final). `NO_KEY`: not read yet.
+        let (mut entry_a, mut key_a) = (0usize, NO_KEY);
+        let (mut entry_b, mut key_b) = (0usize, NO_KEY);
+        let result = loop {
+            if let Some(state) = q.pending.take() {
+                let queues = (&mut q, None);
+                if let Err(e) = expand::<M, REV>(cells, queues, map, (bounds, t), &passable, state)
+                {
+                    break Err(e);
+                }
+            }
+            if key_a == NO_KEY && q.a_len > 0 {
+                entry_a = cells
+                    .get(q.a_head)
+                    .map_or(usize::MAX, |c| c.ring_a as usize);
+                match key_of(cells, entry_a) {
+                    Some(k) => key_a = k + t.edge,
+                    None => {
+                        // A corrupt entry: drop it rather than loop forever.
+                        q.a_head = wrap(q.a_head + 1, cap);
+                        q.a_len -= 1;
+                        continue;
+                    }
+                }
+            }
+            if key_b == NO_KEY && q.b_len > 0 {
+                entry_b = cells
+                    .get(q.b_head)
+                    .map_or(usize::MAX, |c| c.ring_b as usize);
+                match key_of(cells, entry_b / 2) {
+                    Some(k) => key_b = k + t.quarter_turn,
+                    None => {
+                        q.b_head = wrap(q.b_head + 1, cap);
+                        q.b_len -= 1;
+                        continue;
+                    }
+                }
+            }
+            if key_a == NO_KEY && key_b == NO_KEY {
+                break Ok(());
+            }
+            // Ties go to the edge queue.
+            let (v, h, key) = if key_a <= key_b {
+                let key = key_a;
+                key_a = NO_KEY;
+                q.a_head = wrap(q.a_head + 1, cap);
+                q.a_len -= 1;
+                let s = entry_a;
+                let h = s % 4;
+                let toward = if REV { (h + 2) & 3 } else { h };
+                let Some(w) = neighbour_index(bounds, s / 4, Heading::from_index(toward as u8))
+                else {
+                    continue;
+                };
+                (w, h, key)
+            } else {
+                let key = key_b;
+                key_b = NO_KEY;
+                q.b_head = wrap(q.b_head + 1, cap);
+                q.b_len -= 1;
+                let s = entry_b / 2;
+                let h2 = if entry_b % 2 == 0 {
+                    (s + 1) & 3
+                } else {
+                    (s + 3) & 3
+                };
+                (s / 4, h2, key)
+            };
+            let Some(first) = settle_in(cells, &mut dirty, v, h, key) else {
+                continue;
+            };
+            q.pending = Some((v, h, key));
+            if settled(v, h, key, first) == Flow::Stop {
+                break Ok(());
+            }
+        };
+        self.queue = q;
+        self.dirty = dirty;
+        result
+    }
+
+    /// [`DistField::run`] forward, driving through corridors in one move,
+    /// their arrivals queued in the jump heap (see `corridor`). A loop of
+    /// its own: one loop for both, the jump queue folded away by a const
+    /// parameter when plain, ran every plain search slower (rooms 128², 16
+    /// robots, no search jumping: 68 against 58 s;
+    /// docs/results/performance.md, stop 42).
+    pub(super) fn run_jumping<M: AsRef<[Block]> + AsMut<[Block]>>(
         &mut self,
         map: &KnownMap<M>,
         passable: impl Fn(usize) -> bool,
@@ -54,9 +161,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let (mut entry_b, mut key_b) = (0usize, NO_KEY);
         let result = loop {
             if let Some(state) = q.pending.take() {
-                let queues = (&mut q, &mut *jumps);
+                let queues = (&mut q, Some(&mut *jumps));
                 if let Err(e) =
-                    expand::<M, REV, JUMP>(cells, queues, map, (bounds, t), &passable, state)
+                    expand::<M, false>(cells, queues, map, (bounds, t), &passable, state)
                 {
                     break Err(e);
                 }
@@ -89,10 +196,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                 }
             }
             // A push can put a cheaper arrival on top: read it every time.
-            let key_j = match jumps.least() {
-                Some(k) if JUMP => k,
-                _ => NO_KEY,
-            };
+            let key_j = jumps.least().unwrap_or(NO_KEY);
             if key_a == NO_KEY && key_b == NO_KEY && key_j == NO_KEY {
                 break Ok(());
             }
@@ -109,9 +213,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                 q.a_len -= 1;
                 let s = entry_a;
                 let h = s % 4;
-                let toward = if REV { (h + 2) & 3 } else { h };
-                let Some(w) = neighbour_index(bounds, s / 4, Heading::from_index(toward as u8))
-                else {
+                let Some(w) = neighbour_index(bounds, s / 4, Heading::from_index(h as u8)) else {
                     continue;
                 };
                 (w, h, key)
@@ -153,13 +255,13 @@ const NO_KEY: Ticks = Ticks::MAX;
 /// reverse search settles (but the goal, whose states are all settled at
 /// 0) was entered along an edge, so it is passable and may turn.
 ///
-/// `JUMP`: an edge into a corridor goes on to its far end (see
-/// `corridor::walk`) and queues the arrival in `jumps`, unless that is
-/// full.
+/// With `jumps` (forward only), an edge into a corridor goes on to its
+/// far end (see `corridor::walk`) and queues the arrival there, unless it
+/// is full.
 #[inline(always)]
-fn expand<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool, const JUMP: bool>(
+fn expand<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool>(
     cells: &mut [PlanCell],
-    (q, jumps): (&mut Queues, &mut Jumps),
+    (q, jumps): (&mut Queues, Option<&mut Jumps>),
     map: &KnownMap<M>,
     (bounds, t): (Bounds, Timing),
     passable: &impl Fn(usize) -> bool,
@@ -183,16 +285,21 @@ fn expand<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool, const JUMP: bool>
         }
     };
     if let Some(w) = drive.filter(|_| d + t.edge <= MAX_DIST) {
-        let jump = if JUMP && !REV && !jumps.spill_if_full() {
-            let from = (&*cells, &*jumps);
-            match corridor::walk(from, map, (bounds, t), passable, (w, h, d + t.edge)) {
-                (end, true) => Some(end),
-                (_, false) => None,
+        let jump = match jumps {
+            Some(jumps) if !REV => {
+                if jumps.spill_if_full() {
+                    None
+                } else {
+                    let from = (&*cells, &*jumps);
+                    match corridor::walk(from, map, (bounds, t), passable, (w, h, d + t.edge)) {
+                        (end, true) => Some((end, jumps)),
+                        (_, false) => None,
+                    }
+                }
             }
-        } else {
-            None
+            _ => None,
         };
-        if let Some((x, hx, key)) = jump {
+        if let Some(((x, hx, key), jumps)) = jump {
             if !cells.get(x).is_some_and(|c| c.settled(hx)) {
                 // Not full: checked above.
                 jumps.push((x, hx, key));

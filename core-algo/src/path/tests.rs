@@ -771,7 +771,7 @@ proptest! {
 
 /// A known map of the first `known` nodes, by BFS from node 0, of a field
 /// with `arms`.
-fn known_prefix(bounds: Bounds, arms: &[Arms], known: usize) -> KnownMap<Vec<Block>> {
+pub(crate) fn known_prefix(bounds: Bounds, arms: &[Arms], known: usize) -> KnownMap<Vec<Block>> {
     let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(bounds.area())], bounds).unwrap();
     for i in bfs_order(bounds, arms).into_iter().take(known) {
         map.visit(bounds.pos(i), arms[i], RobotId(0)).unwrap();

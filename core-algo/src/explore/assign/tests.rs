@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::explore::RobotView;
-use crate::explore::tests::random_team;
+use crate::explore::tests::{random_team, random_team_in};
 use crate::geometry::{Arms, Heading, Pos};
 use crate::map::{Bounds, KnownMap, blocks_for};
 use crate::path::tests::{bfs_order, random_arms, tree_arms};
@@ -82,14 +82,15 @@ proptest! {
     fn cheapest_candidates_lose_no_optimal_assignment(
         w in 2u16..12, h in 2u16..12, seed in any::<u64>(), frac in 0.05f64..1.0,
         k in 1usize..17, pull in 0u32..60, me in 0usize..16, lazy in any::<bool>(),
-        reverse in any::<bool>(), out in any::<u16>(),
+        reverse in any::<bool>(), out in any::<u16>(), maze in any::<bool>(),
     ) {
         let area = usize::from(w) * usize::from(h);
         // Team mates left out of the assignment (never the decider), as
         // tempo leaves out those that keep a far share; the endgame takes
         // everyone, so only outside it.
         let left_out = u32::from(out) & !(1 << (me % k)) & ((1 << k) - 1);
-        let (map, mut robots) = random_team(w, h, seed, frac, k);
+        // On a maze the picks jump along corridors.
+        let (map, mut robots) = random_team_in(w, h, (seed, maze), frac, k);
         let b = map.bounds();
         for (j, r) in robots.iter_mut().enumerate() {
             r.eta = (j as u32 * 13) % 40;
