@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::explore::RobotView;
-use crate::explore::tests::{random_team, random_team_in};
+use crate::explore::tests::random_team_in;
 use crate::geometry::{Arms, Heading, Pos};
 use crate::map::{Bounds, KnownMap, blocks_for};
 use crate::path::tests::{bfs_order, random_arms, tree_arms};
