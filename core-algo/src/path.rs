@@ -342,15 +342,15 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     }
 
     /// [`DistField::compute`] for callers that ask only distances of nodes
-    /// outside corridors (frontier nodes, junctions, dead ends): it jumps
-    /// along corridors and settles none of their states (see `corridor`):
-    /// a corridor node is not reached, or (when the jump heap was full)
-    /// may be reached dearer than it is. Ways are read through corridors,
-    /// as a plain search gives them, unless [`DistField::holds_ways`]
-    /// says otherwise.
-    /// Every other node is reported cheapest first with the distance a
-    /// plain search gives it; nodes at the same distance may come in
-    /// another order. [`DistField::resume`] goes on jumping.
+    /// outside corridors (frontier nodes, junctions, dead ends). It jumps
+    /// along corridors and settles none of their states (see `corridor`),
+    /// so a corridor node is not reached, or, when the jump heap was full,
+    /// may be reached dearer than it is. Every other node is reported
+    /// cheapest first with the distance a plain search gives it (nodes at
+    /// the same distance may come in another order), and ways are read
+    /// back through corridors as a plain search gives them, unless
+    /// [`DistField::holds_ways`] says otherwise. [`DistField::resume`]
+    /// goes on jumping.
     pub fn compute_jumping<M: AsRef<[Block]> + AsMut<[Block]>>(
         &mut self,
         map: &KnownMap<M>,

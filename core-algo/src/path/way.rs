@@ -85,7 +85,8 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// node `target` ends: its cheapest heading.
     fn last_state(&self, target: usize) -> Option<State> {
         self.start?;
-        // Nor through a corridor a jumping search went into plain.
+        // A jumping search that went into a corridor plain may hold its
+        // states dearer than they are: no way is read from it.
         if self.jumping && self.jumps.spilled() {
             return None;
         }
