@@ -210,7 +210,8 @@ pub struct DistField<S> {
     /// scratch, whose cells mean something else (see `weighted`).
     weighted: bool,
     /// Whether the search jumps along corridors (see `corridor`): it
-    /// holds no corridor states, so it gives distances, not ways.
+    /// holds no corridor states, so its ways are read through corridors
+    /// (`way`), and it keeps no marks or memos.
     jumping: bool,
     /// Jump arrivals not settled yet.
     jumps: corridor::Jumps,
