@@ -334,12 +334,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         heading: Heading,
         reached: impl FnMut(usize, Ticks) -> Flow,
     ) -> Result<(), PlanError> {
-        self.tree = None;
-        let result = self.search_from(map, timing, (start, heading, false), |_| true, reached);
-        if result.is_ok() {
-            self.tree = Some(map.revision());
-        }
-        result
+        self.compute_kept(map, timing, (start, heading, false), reached)
     }
 
     /// [`DistField::compute`] for callers that ask only distances of nodes
@@ -360,8 +355,21 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         heading: Heading,
         reached: impl FnMut(usize, Ticks) -> Flow,
     ) -> Result<(), PlanError> {
+        self.compute_kept(map, timing, (start, heading, true), reached)
+    }
+
+    /// [`DistField::compute`] or, `jumping`, [`DistField::compute_jumping`]:
+    /// a search from the start that the map's revision vouches for
+    /// afterwards (see [`DistField::is_distance_search_from`]).
+    fn compute_kept<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        pose: (Pos, Heading, bool),
+        reached: impl FnMut(usize, Ticks) -> Flow,
+    ) -> Result<(), PlanError> {
         self.tree = None;
-        let result = self.search_from(map, timing, (start, heading, true), |_| true, reached);
+        let result = self.search_from(map, timing, pose, |_| true, reached);
         if result.is_ok() {
             self.tree = Some(map.revision());
         }

@@ -116,18 +116,12 @@ pub(super) fn walk<M: AsRef<[Block]> + AsMut<[Block]>>(
     // stops (no corridor node, or the start, or one gone into plain); the
     // bound guards a corrupt map.
     for _ in 0..bounds.area() {
-        let back = 1u8 << ((h + 2) & 3);
-        let Some(arms) = arms_at(map, v) else { break };
-        let bits = arms.bits();
-        if bits.count_ones() != 2
-            || bits & back == 0
-            || v == jumps.start
-            || (jumps.spilled && cells.get(v).is_none_or(|c| c.dist().is_some()))
-            || !passable(v)
-        {
+        let Some(out) = other_arm(map, jumps.start, v, (h + 2) & 3) else {
+            break;
+        };
+        if (jumps.spilled && cells.get(v).is_none_or(|c| c.dist().is_some())) || !passable(v) {
             break;
         }
-        let out = (bits & !back).trailing_zeros() as usize;
         let turn = if out == h { 0 } else { t.quarter_turn };
         let next = key + turn + t.edge;
         let Some(n) = neighbour_index(bounds, v, Heading::from_index(out as u8)) else {
@@ -144,7 +138,8 @@ pub(super) fn walk<M: AsRef<[Block]> + AsMut<[Block]>>(
 
 /// The arm of node `v` other than `toward` (a heading index), if `v` is a
 /// node a walk passes (two known arms, one of them `toward`, not the
-/// `start`), for a search that never went into a corridor plain.
+/// `start`).
+#[inline]
 fn other_arm<M: AsRef<[Block]> + AsMut<[Block]>>(
     map: &KnownMap<M>,
     start: usize,
