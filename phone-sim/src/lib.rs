@@ -39,6 +39,7 @@ pub fn stdout_or_exit(args: std::fmt::Arguments<'_>) {
 pub mod bench;
 pub mod cli;
 pub mod connect_cmd;
+pub mod cores;
 pub mod environment;
 pub mod explore_cmd;
 pub mod field;

@@ -362,7 +362,8 @@ proptest! {
 fn the_benchmark_can_run_on_the_system_simulator() {
     let f = field::generate::rooms(10, 8, 2);
     let bf = phone_sim::bench::BenchField::from_field(&f, f.name().to_string());
-    let stats = phone_sim::bench::run_system(&bf, 3, "tempo", 100).unwrap();
+    let stats =
+        phone_sim::bench::run_system(&bf, 3, "tempo", 100, &core_algo::explore::InOrder).unwrap();
     assert!(stats.complete);
     assert_eq!(stats.edges.len(), 3);
     assert!(stats.max_edges() > 0 && stats.makespan > 0);

@@ -10,7 +10,7 @@
 //! each robot's k cheapest frontier nodes, at most k² columns, in fixed
 //! arrays without allocation.
 
-use super::{Context, Decision, MAX_ROBOTS, Strategy, explore_decision, nearest_or_home};
+use super::{Context, Decision, MAX_ROBOTS, Strategy, Workers, explore_decision, nearest_or_home};
 use crate::map::Block;
 use crate::path::{DistField, Flow, PlanCell, PlanError};
 use crate::timing::Ticks;
@@ -187,7 +187,9 @@ impl Candidates {
     /// endgame asks it.
     ///
     /// The matrix is written into `c`; `false` when the team cannot be
-    /// planned for (no robots, too many, or too few fields).
+    /// planned for (no robots, too many, or too few fields). Without
+    /// spread, the robots' picks grow side by side on `workers` (see
+    /// [`Workers`]); each search writes only its own field and picks.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn cheapest<M, F>(
         ctx: &Context<'_, M>,
@@ -195,14 +197,14 @@ impl Candidates {
         per_robot: usize,
         spread: u32,
         (lazy, reverse, left_out): (bool, bool, u32),
-        mut cost: impl FnMut(usize, usize, Ticks) -> Option<i64>,
-        mut floor: impl FnMut(usize, Ticks) -> i64,
+        cost: impl Fn(usize, usize, Ticks) -> Option<i64> + Sync,
+        floor: impl Fn(usize, Ticks) -> i64 + Sync,
         bound: impl FnMut(usize, usize) -> i64,
-        c: &mut Candidates,
+        (c, workers): (&mut Candidates, &dyn Workers),
     ) -> Result<bool, PlanError>
     where
-        M: AsRef<[Block]> + AsMut<[Block]>,
-        F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+        M: AsRef<[Block]> + AsMut<[Block]> + Sync,
+        F: AsRef<[PlanCell]> + AsMut<[PlanCell]> + Send,
     {
         let Some(k) = Self::team_size(ctx, fields) else {
             return Ok(false);
@@ -215,15 +217,7 @@ impl Candidates {
         }
         if spread == 0
             && ctx.map.frontier_len() < per_robot.min(k)
-            && Self::endgame(
-                ctx,
-                fields,
-                (lazy, reverse),
-                &mut cost,
-                &mut floor,
-                bound,
-                c,
-            )?
+            && Self::endgame(ctx, fields, (lazy, reverse), &cost, &floor, bound, c)?
         {
             return Ok(true);
         }
@@ -245,13 +239,23 @@ impl Candidates {
         loop {
             c.clear(k);
             c.left_out = left_out;
+            if spread == 0 {
+                Picks::grow_all(
+                    ctx,
+                    fields,
+                    (&mut picks, &mut stale),
+                    (&cost, &floor),
+                    workers,
+                )?;
+            }
             for (j, (r, field)) in ctx.robots.iter().zip(fields.iter_mut()).enumerate() {
                 let (Some(p), Some(s)) = (picks.get_mut(j), stale.get_mut(j)) else {
                     continue;
                 };
                 if *s {
+                    // Spread: the picks depend on those taken before.
                     let taken = c.nodes.get(..c.m).unwrap_or(&[]);
-                    p.grow(ctx, field, (j, r), (spread, taken), &mut cost, &mut floor)?;
+                    p.grow(ctx, field, (j, r), (spread, taken), &cost, &floor)?;
                     *s = false;
                 }
                 for &(_, i) in p.brought() {

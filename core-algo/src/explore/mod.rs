@@ -26,6 +26,7 @@ pub mod legacy;
 mod minpos;
 mod nearest;
 mod tempo;
+mod workers;
 
 pub use assign::{Assignment, AssignmentObjective, BurgardGreedy};
 pub use layers::{CooperationLayer, Layer, ResidualLayer, SeedConfig, SeedExplorer};
@@ -33,6 +34,7 @@ pub use legacy::Legacy2010;
 pub use minpos::MinPos;
 pub use nearest::{GreedyClaim, NearestFrontier};
 pub use tempo::{Tempo, TempoConfig};
+pub use workers::{InOrder, Workers};
 
 /// The largest team a centralised strategy plans for at once. The seed plans
 /// for six robots; sixteen lets the simulator run the large-field teams

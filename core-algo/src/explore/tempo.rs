@@ -96,7 +96,9 @@
 //!   (docs/results/performance.md, stop 38).
 
 use super::assign::{AssignmentObjective, Candidates, hungarian_cols, is_left_out};
-use super::{Context, Decision, Strategy, explore_decision, go_home, nearest_or_home};
+use super::{
+    Context, Decision, InOrder, Strategy, Workers, explore_decision, go_home, nearest_or_home,
+};
 use crate::map::Block;
 use crate::path::{DistField, Flow, PlanCell, PlanError};
 use crate::timing::Ticks;
@@ -283,29 +285,45 @@ impl Default for TempoConfig {
 }
 
 /// See the module docs.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 pub struct Tempo {
     /// Its knobs.
     pub config: TempoConfig,
     /// Each robot's share, or wait, from its last full decision (the
     /// strategy may decide for a whole simulated team), see [`Commitment`].
     kept: [Option<Commitment>; super::MAX_ROBOTS],
+    /// Where the team mates' searches run (see [`Workers`]).
+    workers: &'static dyn Workers,
+}
+
+impl Default for Tempo {
+    fn default() -> Self {
+        Tempo::new(TempoConfig::default())
+    }
 }
 
 impl Tempo {
-    /// Tempo with these knobs and nothing remembered yet.
+    /// Tempo with these knobs and nothing remembered yet, searching on one
+    /// core.
     pub fn new(config: TempoConfig) -> Tempo {
         Tempo {
             config,
             kept: [None; super::MAX_ROBOTS],
+            workers: &InOrder,
         }
+    }
+
+    /// The same, its team mates' searches run by `workers`: the same
+    /// decisions, sooner on a host with cores to spare.
+    pub fn with_workers(self, workers: &'static dyn Workers) -> Tempo {
+        Tempo { workers, ..self }
     }
 }
 
 impl<M, F> Strategy<M, F> for Tempo
 where
-    M: AsRef<[Block]> + AsMut<[Block]>,
-    F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+    M: AsRef<[Block]> + AsMut<[Block]> + Sync,
+    F: AsRef<[PlanCell]> + AsMut<[PlanCell]> + Send,
 {
     fn name(&self) -> &'static str {
         "tempo"
@@ -472,7 +490,7 @@ where
             cost,
             floor,
             bound,
-            &mut c,
+            (&mut c, self.workers),
         )?;
         if !planned {
             return match fields.first_mut() {

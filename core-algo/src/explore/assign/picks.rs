@@ -3,7 +3,7 @@
 //! why a few of them can be proved enough.
 
 use super::INF;
-use crate::explore::{Context, MAX_ROBOTS, RobotView};
+use crate::explore::{Context, MAX_ROBOTS, RobotView, Workers};
 use crate::map::Block;
 use crate::path::{DistField, Flow, PlanCell, PlanError};
 use crate::timing::Ticks;
@@ -94,8 +94,8 @@ impl Picks {
         field: &mut DistField<F>,
         (j, r): (usize, &RobotView),
         (spread, taken): (u32, &[usize]),
-        cost: &mut impl FnMut(usize, usize, Ticks) -> Option<i64>,
-        floor: &mut impl FnMut(usize, Ticks) -> i64,
+        cost: &impl Fn(usize, usize, Ticks) -> Option<i64>,
+        floor: &impl Fn(usize, Ticks) -> i64,
     ) -> Result<(), PlanError>
     where
         M: AsRef<[Block]> + AsMut<[Block]>,
@@ -159,6 +159,54 @@ impl Picks {
         } else {
             field.resume(map, reached)
         }
+    }
+
+    /// [`Picks::grow`] without spread for every robot marked `stale`
+    /// (then unmarked), the searches run by `workers`: each reads the map
+    /// and writes only its own field and picks, so they may run at once.
+    pub(super) fn grow_all<M, F>(
+        ctx: &Context<'_, M>,
+        fields: &mut [DistField<F>],
+        (picks, stale): (&mut [Picks; MAX_ROBOTS], &mut [bool; MAX_ROBOTS]),
+        (cost, floor): (
+            &(impl Fn(usize, usize, Ticks) -> Option<i64> + Sync),
+            &(impl Fn(usize, Ticks) -> i64 + Sync),
+        ),
+        workers: &dyn Workers,
+    ) -> Result<(), PlanError>
+    where
+        M: AsRef<[Block]> + AsMut<[Block]> + Sync,
+        F: AsRef<[PlanCell]> + AsMut<[PlanCell]> + Send,
+    {
+        let mut results = [Ok(()); MAX_ROBOTS];
+        let mut jobs = heapless::Vec::<_, MAX_ROBOTS>::new();
+        let robots = ctx.robots.iter().zip(fields.iter_mut());
+        let own = picks
+            .iter_mut()
+            .zip(stale.iter_mut())
+            .zip(results.iter_mut());
+        for (j, ((r, field), ((p, s), result))) in robots.zip(own).enumerate() {
+            if !core::mem::take(s) {
+                continue;
+            }
+            let job = move || *result = p.grow(ctx, field, (j, r), (0, &[]), cost, floor);
+            // At most one job per robot: `jobs` holds them all.
+            if jobs.push(job).is_err() {
+                return Err(PlanError::Capacity {
+                    needed: ctx.robots.len(),
+                    available: MAX_ROBOTS,
+                });
+            }
+        }
+        let mut run = heapless::Vec::<&mut (dyn FnMut() + Send), MAX_ROBOTS>::new();
+        for job in jobs.iter_mut() {
+            // As many as `jobs`: cannot fail.
+            let _ = run.push(job);
+        }
+        workers.run(&mut run);
+        drop(run);
+        drop(jobs);
+        results.into_iter().collect()
     }
 
     /// Twice the picks, up to `most`; whether that is more.

@@ -2,8 +2,8 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::*;
-use crate::explore::RobotView;
 use crate::explore::tests::random_team_in;
+use crate::explore::{InOrder, RobotView};
 use crate::geometry::{Arms, Heading, Pos};
 use crate::map::{Bounds, KnownMap, blocks_for};
 use crate::path::tests::{bfs_order, random_arms, tree_arms};
@@ -13,6 +13,18 @@ use crate::timing::Timing;
 use proptest::prelude::*;
 use std::vec;
 use std::vec::Vec;
+
+/// Runs jobs last to first: a search's outcome must not depend on which
+/// ran before it (see `Workers`).
+struct Backwards;
+
+impl Workers for Backwards {
+    fn run(&self, jobs: &mut [&mut (dyn FnMut() + Send)]) {
+        for job in jobs.iter_mut().rev() {
+            job();
+        }
+    }
+}
 
 fn total(cols: &[Option<usize>], nodes: &[usize], full: &[Vec<Option<i64>>]) -> (usize, i64) {
     let mut n = 0;
@@ -127,7 +139,13 @@ proptest! {
         let field = || DistField::new(vec![PlanCell::EMPTY; min_cells(area)]);
         let mut fields: Vec<_> = (0..k).map(|_| field()).collect();
         let mut c = Candidates::empty(k);
-        prop_assert!(Candidates::cheapest(&ctx, &mut fields, k, 0, (lazy, reverse, left_out), cost, floor, bound, &mut c).unwrap());
+        prop_assert!(Candidates::cheapest(&ctx, &mut fields, k, 0, (lazy, reverse, left_out), cost, floor, bound, (&mut c, &InOrder)).unwrap());
+        // The same matrix whatever order the searches ran in.
+        let mut fresh: Vec<_> = (0..k).map(|_| field()).collect();
+        let mut back = Candidates::empty(k);
+        prop_assert!(Candidates::cheapest(&ctx, &mut fresh, k, 0, (lazy, reverse, left_out), cost, floor, bound, (&mut back, &Backwards)).unwrap());
+        prop_assert_eq!(back.nodes.get(..back.m), c.nodes.get(..c.m));
+        prop_assert_eq!(back.cost, c.cost);
         let (full, best) = full_costs(&map, timing, &robots, cost);
         prop_assume!(best.is_some());
         let cols = hungarian_cols(&c, AssignmentObjective::MinSum);
@@ -239,7 +257,7 @@ proptest! {
             };
             let bound = |_: usize, _: usize| i64::MIN;
             prop_assert!(
-                Candidates::cheapest(&ctx, &mut fields, k, 0, (lazy, true, 0), cost, floor, bound, &mut c).unwrap()
+                Candidates::cheapest(&ctx, &mut fields, k, 0, (lazy, true, 0), cost, floor, bound, (&mut c, &InOrder)).unwrap()
             );
             let (full, best) = full_costs(&map, timing, &robots, cost);
             prop_assume!(best.is_some());
@@ -309,7 +327,7 @@ fn the_lazy_endgame_searches_only_as_far_as_the_assignment_needs() {
             cost,
             |_, d| i64::from(d),
             |_, _| i64::MIN,
-            &mut c,
+            (&mut c, &InOrder),
         )
         .unwrap();
         assert!(planned);

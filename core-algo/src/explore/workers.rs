@@ -1,0 +1,41 @@
+//! The cores a decision may use: [`Workers`] runs a decision's independent
+//! searches side by side where the host has more than one.
+//!
+//! ## Why
+//!
+//! Tempo's decision in a team of 16 grows one field per team mate, each
+//! from that robot's pose to its cheapest frontier nodes. The searches
+//! read the same map and write only their own field, so they can run at
+//! once. On a robot there is one core and they run in order ([`InOrder`]);
+//! the simulator, which runs every robot's decisions on one machine, hands
+//! the strategy a thread pool (`phone_sim::cores`). Which thread runs which
+//! search changes nothing a search finds, so the decision is the same.
+//!
+//! Only the host knows how to run threads, so the pool stays behind this
+//! trait and core-algo stays `no_std`.
+
+/// Runs independent jobs, on more than one core where the host can.
+pub trait Workers: Sync {
+    /// Calls every job once, on any thread and in any order, and returns
+    /// when all have returned. Jobs share nothing mutable, so any order
+    /// gives the same result.
+    fn run(&self, jobs: &mut [&mut (dyn FnMut() + Send)]);
+}
+
+impl core::fmt::Debug for dyn Workers {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str("Workers")
+    }
+}
+
+/// One core: every job in turn, first to last. What a robot runs.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct InOrder;
+
+impl Workers for InOrder {
+    fn run(&self, jobs: &mut [&mut (dyn FnMut() + Send)]) {
+        for job in jobs {
+            job();
+        }
+    }
+}

@@ -1,0 +1,33 @@
+//! The host's cores for a decision's independent searches (see
+//! [`core_algo::explore::Workers`]): rayon's pool, one job per search.
+//!
+//! A simulated team's robots decide one after another on one machine,
+//! where real robots would think side by side; the searches inside one
+//! decision (a field per team mate) are what a host can spread over its
+//! cores. Across robots there is less to gain: in a 16-robot run on rooms
+//! 128² at most a fifth of the deciding time fell in instants where two
+//! robots decided at once (docs/results/performance.md, stop 43).
+
+use core_algo::explore::Workers;
+use rayon::prelude::*;
+
+/// Runs jobs on rayon's global pool (all cores), each job stealable on its
+/// own, since one search can cost a thousand times another.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct HostCores;
+
+/// The pool every host-side strategy shares.
+pub static HOST_CORES: HostCores = HostCores;
+
+impl Workers for HostCores {
+    fn run(&self, jobs: &mut [&mut (dyn FnMut() + Send)]) {
+        if jobs.len() < 2 {
+            // Nothing to share: spare the hand-over.
+            for job in jobs {
+                job();
+            }
+            return;
+        }
+        jobs.par_iter_mut().with_max_len(1).for_each(|job| job());
+    }
+}
