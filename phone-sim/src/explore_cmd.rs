@@ -208,7 +208,7 @@ pub fn simulate(field: &Field, a: &ExploreArgs) -> Result<(Simulation, Outcome, 
     let t0 = std::time::Instant::now();
     let outcome = match a.realtime {
         Some(factor) => run_paced(&mut sim, field.nodes().len(), factor),
-        None => sim.run(),
+        None => crate::cores::on_pool(|| sim.run()),
     };
     Ok((sim, outcome, t0.elapsed().as_secs_f64()))
 }

@@ -369,6 +369,25 @@ fn the_benchmark_can_run_on_the_system_simulator() {
     assert!(stats.max_edges() > 0 && stats.makespan > 0);
 }
 
+/// Tempo's team-mate searches spread over every core (rayon's pool, as
+/// `conquest explore` runs them) give exactly the run they give on one:
+/// each search writes only its own field, whichever thread runs it.
+#[test]
+fn tempo_on_every_core_runs_as_on_one() {
+    let f = field::generate::rooms(16, 12, 5);
+    let bf = phone_sim::bench::BenchField::from_field(&f, f.name().to_string());
+    let k = f.starts().len().min(6);
+    assert!(k >= 3, "{} starts", f.starts().len());
+    let one = phone_sim::bench::run_system(&bf, k, "tempo", 100, &core_algo::explore::InOrder);
+    let every = phone_sim::cores::on_pool(|| {
+        phone_sim::bench::run_system(&bf, k, "tempo", 100, &phone_sim::cores::HOST_CORES)
+    });
+    let one = one.unwrap();
+    assert!(one.complete);
+    assert!(one.decisions > 0);
+    assert_eq!(every.unwrap(), one);
+}
+
 /// Sixteen robots with tempo's far shares kept beside busy team mates
 /// (`far_busy_nodes_per_robot`, on by default only on fields of 4 096
 /// nodes per robot; here on at any size, and far from 8 edges, so that
