@@ -1,7 +1,8 @@
 //! `tempo/decide16`: one robot's full tempo decision (the whole team's
 //! assignment) in a team of 16, on open and maze fields of 64² and 256²
 //! nodes, about half known: the cost that dominates large-team runs
-//! (docs/results/performance.md, stop 18).
+//! (docs/results/performance.md, stop 18); `decide16-cores` the same with
+//! the team mates' searches on every core (stop 43).
 //!
 //! `tempo/endgame16-*`: the same in a maze once fewer frontier nodes than
 //! robots are left (all but the last 12 nodes in BFS order known), where a
@@ -63,11 +64,17 @@ fn bench_tempo(c: &mut Criterion) {
                 home_pull_pct: 0,
                 ..TempoConfig::default()
             };
-            for (name, config) in [
-                ("decide16", TempoConfig::default()),
-                ("decide16-no-pull", no_pull),
+            // `cores`: the team mates' searches on every core
+            // (`phone_sim::cores`), as `conquest explore` runs them.
+            for (name, config, cores) in [
+                ("decide16", TempoConfig::default(), false),
+                ("decide16-cores", TempoConfig::default(), true),
+                ("decide16-no-pull", no_pull, false),
             ] {
                 let mut tempo = Tempo::new(config);
+                if cores {
+                    tempo = tempo.with_workers(&phone_sim::cores::HOST_CORES);
+                }
                 g.bench_function(BenchmarkId::new(name, format!("{kind}-{n}")), |bch| {
                     bch.iter(|| black_box(tempo.decide(&ctx, &mut fields).expect("decide")))
                 });
