@@ -4,9 +4,10 @@
 //! A simulated team's robots decide one after another on one machine,
 //! where real robots would think side by side; the searches inside one
 //! decision (a field per team mate) are what a host can spread over its
-//! cores. Across robots there is less to gain: in a 16-robot run on rooms
-//! 128² at most a fifth of the deciding time fell in instants where two
-//! robots decided at once (docs/results/performance.md, stop 43).
+//! cores. Across robots there is less to gain: robots that decide at the
+//! same instant, side by side, would save at most 19 % of a 16-robot
+//! run's deciding time on rooms 128² and 7 % on maze 128²
+//! (docs/results/performance.md, stop 43).
 
 use core_algo::explore::Workers;
 use rayon::prelude::*;
