@@ -85,9 +85,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// node `target` ends: its cheapest heading.
     fn last_state(&self, target: usize) -> Option<State> {
         self.start?;
-        // A jumping search that went into a corridor plain may hold its
-        // states dearer than they are: no way is read from it.
-        if self.jumping && self.jumps.spilled() {
+        if !self.holds_ways() {
             return None;
         }
         let cell = self.cells.as_ref().get(target)?;
