@@ -12,9 +12,10 @@ use super::*;
 /// strategy that plans for the team uses for our own way (tempo's way home
 /// rebuilt team mate `me − 1`'s field at every step: a quarter of a
 /// 16-robot run on open 256²). So a team of k needs k + 1 fields.
-/// A gated robot's way to its waiting spot is searched by A* guided by
-/// its way home (`DistField::astar_by_landmark`) when that way puts it more
-/// than this many edges farther from home than the spot.
+/// A gated robot's way to its waiting spot is read off its way home and
+/// the spot's (`DistField::descents_meet_passing`) when its way home puts
+/// it more than this many edges farther from home than the spot; nearer,
+/// it is searched.
 const GUIDED_FROM_EDGES: u32 = 16;
 
 fn mate_slot(i: usize, me: usize) -> usize {
@@ -556,9 +557,9 @@ where
             };
             let computed = match (found, spot) {
                 (Ok(()), Some(v)) if bounds.index(pos) != Some(v) => {
-                    // Guided only from afar: near the spot the bound says
-                    // little, and a heap step costs more than one of the
-                    // plain search's two FIFOs.
+                    // Guided by the way home only from afar: near the spot
+                    // it says little of the way there, and a plain search
+                    // there is small.
                     let spot = bounds.pos(v);
                     let guide = landmark.filter(|l| {
                         let at_spot = Heading::ALL
@@ -573,46 +574,34 @@ where
                             _ => false,
                         }
                     });
-                    // Far from the spot, our way home may run into a team
-                    // mate before it comes near the spot. Then the spot lies
-                    // beyond that mate unless the spot's own way home passes
-                    // the mate too (the ways home of a kept reverse field
-                    // form a tree): a walk along each way, where a search
-                    // grew as long as the way for every spot tried at every
-                    // step (a gated robot trailing a team mate home across a
-                    // maze tried five spots beyond it at each step).
-                    if let Some((l, at)) = guide.zip(bounds.index(pos)) {
-                        let near = Heading::ALL
-                            .iter()
-                            .filter_map(|&h| l.dist_pose(spot, h))
-                            .max()
-                            .unwrap_or(0)
-                            .saturating_add(GUIDED_FROM_EDGES.saturating_mul(timing.edge));
-                        let ahead = l.descent_find(map, at, heading, |w| {
-                            occupied(w)
-                                || Heading::ALL
-                                    .iter()
-                                    .filter_map(|&h| l.dist_pose(bounds.pos(w), h))
-                                    .min()
-                                    .is_none_or(|d| d <= near)
-                        });
-                        let spot_out = Heading::ALL
+                    // Far from the spot, the way there runs along our way
+                    // home to where it meets the spot's own (the ways home
+                    // of a kept reverse field form a tree in a maze): two
+                    // walks tell whether it passes a team mate, and the
+                    // first step is the way home's. A search from here,
+                    // even guided by the landmark, settled every side
+                    // corridor as deep as the spot lies off our way, at
+                    // every step (maze 256², 16 robots: 31 000 searches of
+                    // 15 000 poses each, a seventh of the run). A spot
+                    // beyond a team mate is out of reach for now.
+                    let through_mate = guide.zip(bounds.index(pos)).and_then(|(l, at)| {
+                        let out = Heading::ALL
                             .into_iter()
-                            .min_by_key(|&h| l.dist_pose(spot, h).unwrap_or(u32::MAX));
-                        let beyond = ahead.filter(|&b| occupied(b)).is_some_and(|b| {
-                            spot_out
-                                .is_some_and(|h| l.descent_find(map, v, h, |w| w == b).is_none())
-                        });
-                        if beyond {
-                            if unreachable.push(v).is_err() {
-                                return Decision {
-                                    goal: Goal::Home,
-                                    next: l.way_out(map, at, heading),
-                                };
-                            }
-                            continue;
+                            .min_by_key(|&h| l.dist_pose(spot, h).unwrap_or(u32::MAX))?;
+                        let passes =
+                            l.descents_meet_passing(map, (at, heading), (v, out), &places)?;
+                        Some((passes, l.way_out(map, at, heading)))
+                    });
+                    if let Some((passes, next)) = through_mate {
+                        if !passes || unreachable.push(v).is_err() {
+                            return Decision {
+                                goal: Goal::Home,
+                                next,
+                            };
                         }
+                        continue;
                     }
+                    // Only if a way broke off: A* then, guided if it can be.
                     match guide {
                         Some(l) => mine
                             .astar_by_landmark(map, timing, pos, heading, spot, l)

@@ -180,6 +180,59 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         hit
     }
 
+    /// Whether the ways to the goal from the poses `a` and `b` (see
+    /// [`DistField::way_out`]) drive into any of the nodes `vias` before
+    /// they meet: `b`'s own node counts, `a`'s does not. Where the ways
+    /// home form a tree (a maze), the two up to where they meet are the
+    /// only way from `a`'s node to `b`'s, so this answers for that way with
+    /// two walks and no search. `None` if a way breaks off (no completed
+    /// reverse search).
+    pub fn descents_meet_passing<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        a: (usize, Heading),
+        b: (usize, Heading),
+        vias: &[usize],
+    ) -> Option<bool> {
+        let (goal, _) = self.reverse?;
+        let cells = self.cells.as_ref();
+        // A node's cheapest time over its headings: on a tree it falls at
+        // every step of a way, so the walk at the farther node steps on
+        // and the two stand on the same node where their ways join. (A
+        // pose's own time depends on the heading it arrived with, and one
+        // walk could step past the join while the other is a turn behind.)
+        let key = |v: usize| {
+            cells
+                .get(v)
+                .and_then(|c| (0..4).filter_map(|h| c.pose_dist(h)).min())
+        };
+        if vias.contains(&b.0) {
+            return Some(true);
+        }
+        let (mut a, mut b) = (a, b);
+        let (mut ka, mut kb) = (key(a.0)?, key(b.0)?);
+        // Each pose is walked into once at most by each walk.
+        for _ in 0..self.bounds.area().saturating_mul(8).saturating_add(2) {
+            if a.0 == b.0 {
+                return Some(false);
+            }
+            let (walker, k) = if b.0 == goal || (ka >= kb && a.0 != goal) {
+                (&mut a, &mut ka)
+            } else {
+                (&mut b, &mut kb)
+            };
+            *walker = self.step_on_way(map, walker.0, walker.1)?;
+            *k = key(walker.0)?;
+            let into = walker.0;
+            // A node the other walk stands on was looked at when it got
+            // there (or is `a`'s own, which does not count).
+            if a.0 != b.0 && vias.contains(&into) {
+                return Some(true);
+            }
+        }
+        None
+    }
+
     /// Marks the way from the pose (`v`, `heading`) to the goal, so that
     /// [`DistField::descent_passes`] answers for it in O(1) until the field
     /// or the map changes (as [`DistField::mark_way`] does for a forward
@@ -262,3 +315,6 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         false
     }
 }
+
+#[cfg(test)]
+mod tests;
