@@ -104,16 +104,21 @@ where
         let (theirs, rest) = self.fields.split_first_mut()?;
         let (mine, rest) = rest.split_first_mut()?;
         // With a third field: not behind the bumper's goal as seen from
-        // our home, or we would only be shut in once it is there.
+        // our home, or we would only be shut in once it is there. The
+        // search from home is the agent's last field, which nothing else
+        // writes when the agent has one past the homecoming's spare (see
+        // `keep_out_of_the_way`): on a complete map it is then searched
+        // once, not at every retreat.
         let home = self.home;
-        let (homeward, spare) = match rest.split_first_mut() {
+        let (homeward, spare) = match rest.split_last_mut() {
             Some((f, spare)) => (Some(f), spare),
             None => (None, &mut [][..]),
         };
         let mut homeward = homeward.and_then(|f| {
-            f.compute(map, timing, home, Heading::North, |_, _| Flow::Continue)
-                .is_ok()
-                .then_some(f)
+            (f.is_complete_search_from(map, timing, home, Heading::North)
+                || f.compute(map, timing, home, Heading::North, |_, _| Flow::Continue)
+                    .is_ok())
+            .then_some(f)
         });
         let pose = (self.pos, self.heading);
         let mut through_bumper = ThroughBumper {

@@ -185,6 +185,61 @@ fn straight_corridor_costs_edges_and_turns() {
 }
 
 #[test]
+fn only_a_search_run_to_the_end_is_complete() {
+    let mut map = random_known(8, 8, 5, 30);
+    let (t, home) = (Timing::DEFAULT, Pos::new(0, 0));
+    let mut f = field_for(64);
+    let mut n = 0;
+    f.compute(&map, t, home, Heading::North, |_, _| {
+        n += 1;
+        if n < 5 { Flow::Continue } else { Flow::Stop }
+    })
+    .unwrap();
+    assert!(f.is_distance_search_from(&map, t, home, Heading::North));
+    assert!(
+        !f.is_complete_search_from(&map, t, home, Heading::North),
+        "stopped early"
+    );
+    f.resume(&map, |_, _| Flow::Continue).unwrap();
+    assert!(
+        f.is_complete_search_from(&map, t, home, Heading::North),
+        "resumed to the end"
+    );
+    assert!(
+        !f.is_complete_search_from(&map, t, home, Heading::East),
+        "another start"
+    );
+    // Marks and memos leave it whole.
+    let far = (0..64).rev().find(|&i| f.dist_at(i).is_some()).unwrap();
+    f.mark_way(&map, far);
+    assert!(f.passes_any(&map, far, &[far]), "the target counts");
+    assert!(f.is_complete_search_from(&map, t, home, Heading::North));
+    let before: Vec<_> = (0..64).map(|i| f.dist_at(i)).collect();
+    let mut fresh = field_for(64);
+    fresh
+        .compute(&map, t, home, Heading::North, |_, _| Flow::Continue)
+        .unwrap();
+    assert_eq!(
+        before,
+        (0..64).map(|i| fresh.dist_at(i)).collect::<Vec<_>>()
+    );
+    // A grown map needs a new search.
+    let frontier = map.frontier().next().unwrap();
+    let arms = random_arms(map.bounds(), 5)[map.bounds().index(frontier).unwrap()];
+    map.visit(frontier, arms, RobotId(0)).unwrap();
+    assert!(
+        !f.is_complete_search_from(&map, t, home, Heading::North),
+        "the map grew"
+    );
+    f.compute_jumping(&map, t, home, Heading::North, |_, _| Flow::Continue)
+        .unwrap();
+    assert!(
+        !f.is_complete_search_from(&map, t, home, Heading::North),
+        "a jumping search"
+    );
+}
+
+#[test]
 fn too_small_scratch_is_an_error_not_a_panic() {
     let map = random_known(10, 10, 3, 50);
     let mut f = DistField::new(vec![PlanCell::EMPTY; 10]);

@@ -40,8 +40,10 @@ impl Strategy<Vec<Block>, Vec<PlanCell>> for BoxedStrategy {
 /// one more, so that the homecoming's kept ways of team mates never share
 /// the field a strategy plans our own way in, and one for the homecoming's
 /// waiting spots, so that searching them does not throw away the way home
-/// a strategy keeps in the first field (see `agent::homecoming`).
-pub const HOST_FIELDS: usize = MAX_ROBOTS + 2;
+/// a strategy keeps in the first field (see `agent::homecoming`), and one
+/// for a retreat's search from home, kept from one retreat to the next
+/// (see `agent::retreat`).
+pub const HOST_FIELDS: usize = MAX_ROBOTS + 3;
 
 /// The agent type every host-side robot runs.
 pub type HostAgent = Agent<Vec<Block>, Vec<PlanCell>, BoxedStrategy, HOST_FIELDS>;
