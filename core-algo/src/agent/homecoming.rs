@@ -601,7 +601,8 @@ where
                         }
                         continue;
                     }
-                    // Only if a way broke off: A* then, guided if it can be.
+                    // Near the spot, a plain search; from afar only if a way
+                    // broke off, then A* guided by the way home.
                     match guide {
                         Some(l) => mine
                             .astar_by_landmark(map, timing, pos, heading, spot, l)
