@@ -513,7 +513,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             && self.timing == searchable(timing)
     }
 
-    /// [`DistField::is_distance_search_from`] for a plain search that ran
+    /// [`DistField::is_search_from`] for a search that ran
     /// to the end (nothing left in its queues): the whole field, which a
     /// caller that needs all of it need not search again. A retreat asks
     /// it of its search from home, the same on a complete map at every
@@ -525,12 +525,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         start: Pos,
         heading: Heading,
     ) -> bool {
-        let q = &self.queue;
-        self.is_distance_search_from(map, timing, start, heading)
-            && !self.jumping
-            && q.a_len == 0
-            && q.b_len == 0
-            && q.pending.is_none()
+        self.is_search_from(map, timing, start, heading) && self.queue.ran_out()
     }
 
     /// Continues a search that its callback stopped, over the same `map`

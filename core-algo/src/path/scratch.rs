@@ -172,6 +172,13 @@ pub(super) struct Queues {
     pub(super) pending: Option<(usize, usize, Ticks)>,
 }
 
+impl Queues {
+    /// Whether nothing is left to settle: the search ran to the end.
+    pub(super) fn ran_out(&self) -> bool {
+        self.a_len == 0 && self.b_len == 0 && self.pending.is_none()
+    }
+}
+
 /// Windows up to this many nodes get scratch enough that the planner's
 /// queues can never overflow (see [`min_cells`]).
 pub const SMALL_WINDOW: usize = 128;

@@ -347,8 +347,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         v: usize,
         vias: &[usize],
     ) -> bool {
-        let q = &self.queue;
-        let complete = q.a_len == 0 && q.b_len == 0 && q.pending.is_none();
+        let complete = self.queue.ran_out();
         let rev = map.revision();
         if !complete || self.jumping || self.tree != Some(rev) || vias.len() > MAX_VIAS {
             return self.path_passes_any(map, v, vias);
