@@ -36,6 +36,7 @@ use crate::map::{Block, Bounds, KnownMap};
 use crate::timing::{Ticks, Timing};
 use core::fmt;
 pub use corridor::JUMP_SLOTS;
+pub use exits::CorridorExits;
 pub use refresh::way_in;
 use scratch::{DIST_MASK, Dirty, NO_OFF, ON_WAY, Queues, SETTLED_SHIFT};
 pub use scratch::{MAX_DIST, PlanCell, SMALL_WINDOW, min_cells};
@@ -277,6 +278,17 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             .pose_dist(usize::from(h.index()))
     }
 
+    /// [`DistField::dist_pose`] of node `i` (storage index).
+    pub fn dist_pose_at(&self, i: usize, h: Heading) -> Option<Ticks> {
+        if i >= self.bounds.area() {
+            return None;
+        }
+        self.cells
+            .as_ref()
+            .get(i)?
+            .pose_dist(usize::from(h.index()))
+    }
+
     fn prepare<M: AsRef<[Block]> + AsMut<[Block]>>(
         &mut self,
         map: &KnownMap<M>,
@@ -415,7 +427,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             }
         };
         if self.jumping {
-            self.run_jumping(map, passable, settled)
+            self.run_jumping::<M, false>(map, passable, settled)
         } else {
             self.run::<M, false>(map, passable, settled)
         }
@@ -587,10 +599,48 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         map: &KnownMap<M>,
         timing: Timing,
         goal: Pos,
+        reached: impl FnMut(usize, Heading, Ticks) -> Flow,
+    ) -> Result<(), PlanError> {
+        self.reverse_search(map, timing, (goal, false), reached)
+    }
+
+    /// [`DistField::compute_reverse`] for callers that ask only the times
+    /// of states outside corridors, as a robot anywhere reads them through
+    /// its [`CorridorExits`]: it jumps along corridors (see `corridor`),
+    /// and a corridor state is not settled, or may be settled dearer than
+    /// it is. Every other state is reported cheapest first with the time a
+    /// plain search gives it (states at the same time may come in another
+    /// order). It can be refreshed, rebased and resumed as the plain one
+    /// can, and goes on jumping; it is never a whole reverse field
+    /// ([`DistField::way_out`] reads none from it).
+    ///
+    /// Why: once fewer frontier nodes than robots are left, tempo searches
+    /// back from every frontier node at every decision, and late in a maze
+    /// run each search settles about half the map (maze 256², 16 robots:
+    /// 139 k states a decision; docs/results/performance.md, stop 44).
+    /// Four in five of a maze's nodes are corridor nodes.
+    pub fn compute_reverse_jumping<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        goal: Pos,
+        reached: impl FnMut(usize, Heading, Ticks) -> Flow,
+    ) -> Result<(), PlanError> {
+        self.reverse_search(map, timing, (goal, true), reached)
+    }
+
+    /// [`DistField::compute_reverse`], or (`jumping`)
+    /// [`DistField::compute_reverse_jumping`].
+    fn reverse_search<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        (goal, jumping): (Pos, bool),
         mut reached: impl FnMut(usize, Heading, Ticks) -> Flow,
     ) -> Result<(), PlanError> {
         self.tree = None;
         let g = self.prepare(map, timing, goal, Heading::North)?;
+        self.jumping = jumping;
         let cap = self.cells.as_ref().len();
         let bounds = self.bounds;
         self.queue = Queues::default();
@@ -617,25 +667,29 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let result = if stop {
             Ok(())
         } else {
-            self.run::<M, true>(
-                map,
-                |_| true,
-                |v, h, key, _| {
-                    let flow = reached(v, Heading::from_index(h as u8), key);
-                    stop |= flow == Flow::Stop;
-                    flow
-                },
-            )
+            let settled = |v, h, key, _| {
+                let flow = reached(v, Heading::from_index(h as u8), key);
+                stop |= flow == Flow::Stop;
+                flow
+            };
+            if jumping {
+                self.run_jumping::<M, true>(map, |_| true, settled)
+            } else {
+                self.run::<M, true>(map, |_| true, settled)
+            }
         };
         self.start = None;
         match result {
             Ok(()) => {
                 self.rev_open = Some((g, map.revision()));
-                if !stop {
+                if !stop && !jumping {
                     self.reverse = Some((g, map.revision()));
                 }
             }
-            Err(_) => self.queue = Queues::default(),
+            Err(_) => {
+                self.queue = Queues::default();
+                self.jumps.reset(g);
+            }
         }
         result
     }
@@ -644,6 +698,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
 mod astar;
 mod corridor;
 mod descent;
+mod exits;
 mod refresh;
 mod scratch;
 mod search;

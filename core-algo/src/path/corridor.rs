@@ -89,6 +89,30 @@ impl Jumps {
         self.spilled
     }
 
+    /// The node a walk stops at: the start (forward), the goal (reverse).
+    #[inline]
+    pub(super) fn start(&self) -> usize {
+        self.start
+    }
+
+    /// Whether no arrival is queued.
+    pub(super) fn is_empty(&self) -> bool {
+        self.heap.is_empty()
+    }
+
+    /// Every queued key grows by `c` (a rebased reverse search, see
+    /// `refresh`); `false`, leaving the queue as it was, if one would pass
+    /// `MAX_DIST`. Adding the same to every key keeps the heap's order.
+    pub(super) fn shift(&mut self, c: Ticks) -> bool {
+        if self.heap.iter().any(|&e| (e >> 32) as Ticks + c > MAX_DIST) {
+            return false;
+        }
+        for e in self.heap.iter_mut() {
+            *e += u64::from(c) << 32;
+        }
+        true
+    }
+
     /// How many arrivals are queued.
     #[cfg(test)]
     pub(super) fn len(&self) -> usize {
@@ -136,11 +160,56 @@ pub(super) fn walk<M: AsRef<[Block]> + AsMut<[Block]>>(
     ((v, h, key), jumped)
 }
 
+/// [`walk`] for a reverse search: where the way back from state (`w`,
+/// `h`), whose time to the goal is `key`, ends when it goes back through
+/// every corridor node it meets. A robot on `w` facing `h` came through
+/// `w`'s other arm, so its time there facing in is `key` plus the turn it
+/// makes on `w`, and one node back it is an edge more. The walk stops at
+/// a node that is no corridor node, and also at one whose node behind has
+/// no arm back to it (a frontier node): from there the way back is no way
+/// at all, and the node's own states are settled as usual. It reads no
+/// scratch: a corridor node that holds settled states (a full heap sent a
+/// search into it) is passed all the same, as only the states outside
+/// corridors are ever read from a jumping reverse search (see
+/// `CorridorExits`).
+#[inline]
+pub(super) fn walk_back<M: AsRef<[Block]> + AsMut<[Block]>>(
+    map: &KnownMap<M>,
+    (bounds, t): (Bounds, Timing),
+    goal: usize,
+    (w, h, key): (usize, usize, Ticks),
+) -> ((usize, usize, Ticks), bool) {
+    let (mut w, mut h, mut key) = (w, h, key);
+    let mut jumped = false;
+    // A walk back can only close a loop at a node that is no corridor
+    // node; the bound guards a corrupt map.
+    for _ in 0..bounds.area() {
+        let Some(o) = other_arm(map, goal, w, h) else {
+            break;
+        };
+        let into = (o + 2) & 3;
+        let Some(u) = neighbour_index(bounds, w, Heading::from_index(o as u8)) else {
+            break;
+        };
+        if !arms_at(map, u).is_some_and(|a| a.has(Heading::from_index(into as u8))) {
+            break;
+        }
+        let turn = if into == h { 0 } else { t.quarter_turn };
+        let next = key + turn + t.edge;
+        if next > MAX_DIST {
+            break;
+        }
+        (w, h, key) = (u, into, next);
+        jumped = true;
+    }
+    ((w, h, key), jumped)
+}
+
 /// The arm of node `v` other than `toward` (a heading index), if `v` is a
 /// node a walk passes (two known arms, one of them `toward`, not the
 /// `start`).
 #[inline]
-fn other_arm<M: AsRef<[Block]> + AsMut<[Block]>>(
+pub(super) fn other_arm<M: AsRef<[Block]> + AsMut<[Block]>>(
     map: &KnownMap<M>,
     start: usize,
     v: usize,

@@ -223,11 +223,13 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let c = turn(into_u, a) + t.edge;
         if self.dirty.reach().saturating_add(c) > super::MAX_DIST
             || self.queue.pending.is_some_and(|(v, _, _)| v == u)
+            || !self.jumps.shift(c)
         {
             return false;
         }
         // Every settled time grows by `c`; the queues name the settled
-        // states their entries came from, so their keys grow with them.
+        // states their entries came from, so their keys grow with them
+        // (the jump heap's keys were shifted above).
         let cells = self.cells.as_mut();
         self.dirty.for_each_row(|r| {
             let start = r.start;
@@ -273,11 +275,12 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         if self.rev_open.is_none_or(|(_, r)| r != map.revision()) {
             return Ok(());
         }
-        let result = self.run::<M, true>(
-            map,
-            |_| true,
-            |v, h, key, _| reached(v, Heading::from_index(h as u8), key),
-        );
+        let settled = |v, h, key, _| reached(v, Heading::from_index(h as u8), key);
+        let result = if self.jumping {
+            self.run_jumping::<M, true>(map, |_| true, settled)
+        } else {
+            self.run::<M, true>(map, |_| true, settled)
+        };
         if result.is_err() {
             self.refuse();
         }
@@ -292,7 +295,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let q = &self.queue;
         Some(match q.pending {
             Some((_, _, key)) => key,
-            None if q.a_len == 0 && q.b_len == 0 => Ticks::MAX,
+            None if q.a_len == 0 && q.b_len == 0 && self.jumps.is_empty() => Ticks::MAX,
             None => 0,
         })
     }
@@ -301,6 +304,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     fn refuse(&mut self) -> bool {
         self.rev_open = None;
         self.queue = Queues::default();
+        self.jumps.reset(self.jumps.start());
         false
     }
 }

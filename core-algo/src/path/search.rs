@@ -127,13 +127,13 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         result
     }
 
-    /// [`DistField::run`] forward, driving through corridors in one move,
-    /// their arrivals queued in the jump heap (see `corridor`). A loop of
-    /// its own: one loop for both, the jump queue folded away by a const
-    /// parameter when plain, ran every plain search slower (rooms 128², 16
-    /// robots, no search jumping: 68 against 58 s;
-    /// docs/results/performance.md, stop 42).
-    pub(super) fn run_jumping<M: AsRef<[Block]> + AsMut<[Block]>>(
+    /// [`DistField::run`], driving through corridors in one move, their
+    /// arrivals queued in the jump heap (see `corridor`): forward, or
+    /// (`REV`) back from the goal. A loop of its own: one loop for both,
+    /// the jump queue folded away by a const parameter when plain, ran
+    /// every plain search slower (rooms 128², 16 robots, no search
+    /// jumping: 68 against 58 s; docs/results/performance.md, stop 42).
+    pub(super) fn run_jumping<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool>(
         &mut self,
         map: &KnownMap<M>,
         passable: impl Fn(usize) -> bool,
@@ -162,8 +162,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let result = loop {
             if let Some(state) = q.pending.take() {
                 let queues = (&mut q, Some(&mut *jumps));
-                if let Err(e) =
-                    expand::<M, false>(cells, queues, map, (bounds, t), &passable, state)
+                if let Err(e) = expand::<M, REV>(cells, queues, map, (bounds, t), &passable, state)
                 {
                     break Err(e);
                 }
@@ -213,7 +212,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                 q.a_len -= 1;
                 let s = entry_a;
                 let h = s % 4;
-                let Some(w) = neighbour_index(bounds, s / 4, Heading::from_index(h as u8)) else {
+                let toward = if REV { (h + 2) & 3 } else { h };
+                let Some(w) = neighbour_index(bounds, s / 4, Heading::from_index(toward as u8))
+                else {
                     continue;
                 };
                 (w, h, key)
@@ -255,9 +256,9 @@ const NO_KEY: Ticks = Ticks::MAX;
 /// reverse search settles (but the goal, whose states are all settled at
 /// 0) was entered along an edge, so it is passable and may turn.
 ///
-/// With `jumps` (forward only), an edge into a corridor goes on to its
-/// far end (see `corridor::walk`) and queues the arrival there, unless it
-/// is full.
+/// With `jumps`, an edge into a corridor goes on to its far end (see
+/// `corridor::walk`; reverse: back to where a robot would enter it, see
+/// `corridor::walk_back`) and queues the arrival there, unless it is full.
 #[inline(always)]
 fn expand<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool>(
     cells: &mut [PlanCell],
@@ -286,18 +287,23 @@ fn expand<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool>(
     };
     if let Some(w) = drive.filter(|_| d + t.edge <= MAX_DIST) {
         let jump = match jumps {
-            Some(jumps) if !REV => {
+            Some(jumps) => {
                 if jumps.spill_if_full() {
                     None
                 } else {
-                    let from = (&*cells, &*jumps);
-                    match corridor::walk(from, map, (bounds, t), passable, (w, h, d + t.edge)) {
+                    let into = (w, h, d + t.edge);
+                    let walked = if REV {
+                        corridor::walk_back(map, (bounds, t), jumps.start(), into)
+                    } else {
+                        corridor::walk((&*cells, &*jumps), map, (bounds, t), passable, into)
+                    };
+                    match walked {
                         (end, true) => Some((end, jumps)),
                         (_, false) => None,
                     }
                 }
             }
-            _ => None,
+            None => None,
         };
         if let Some(((x, hx, key), jumps)) = jump {
             if !cells.get(x).is_some_and(|c| c.settled(hx)) {

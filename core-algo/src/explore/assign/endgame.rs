@@ -5,7 +5,7 @@ use super::{Candidates, INF, hungarian_by};
 use crate::explore::{Context, MAX_ROBOTS};
 use crate::geometry::Heading;
 use crate::map::Block;
-use crate::path::{DistField, Flow, PlanCell, PlanError, arms_at, way_in};
+use crate::path::{CorridorExits, DistField, Flow, PlanCell, PlanError, arms_at, way_in};
 use crate::timing::Ticks;
 
 /// How many cheapest robots each column's reverse search finds before the
@@ -243,17 +243,22 @@ impl Candidates {
     {
         let (map, k, me, m) = (ctx.map, self.k, ctx.me, self.m);
         let bounds = map.bounds();
-        // Where each robot stands, as the (node, heading) state a reverse
-        // search settles; a 64-bit mask of their nodes spares most states
-        // the comparison with all k.
-        let mut poses = [None; MAX_ROBOTS];
+        // Where each robot leaves for the rest of the graph, as states
+        // outside corridors, which the reverse searches settle (they jump
+        // along corridors: see `DistField::compute_reverse_jumping`); a
+        // 64-bit mask of their nodes spares most states the comparison
+        // with all k.
+        let mut exits = [CorridorExits::NONE; MAX_ROBOTS];
         let mut near = 0u64;
-        for (p, r) in poses.iter_mut().zip(ctx.robots).take(k) {
+        for (x, r) in exits.iter_mut().zip(ctx.robots).take(k) {
             if let Some(i) = bounds.index(r.pos) {
-                *p = Some((i, r.heading));
-                near |= 1 << (i % 64);
+                *x = CorridorExits::of(map, ctx.timing, i, r.heading);
+                for (v, _, _) in x.iter() {
+                    near |= 1 << (v % 64);
+                }
             }
         }
+        let exits = &exits;
         let team = |s: usize| s < k && s != me;
         // Each column's slot: the one that holds its search, or the search
         // of the column visited just before it (see
@@ -310,27 +315,18 @@ impl Candidates {
                 continue;
             };
             let kept = held && rev.refresh_reverse(map, ctx.timing);
+            let want = m.min(k).min(first);
+            let mut column = Column::new(self, (col, node), want, cost, (exits, near));
             if kept {
-                for (j, pose) in poses.iter().enumerate().take(k) {
-                    let d = pose.and_then(|(v, h)| rev.dist_pose(bounds.pos(v), h));
-                    if let (Some(x), Some(e)) = (
-                        d.and_then(|d| cost(j, node, d)),
-                        self.cost.get_mut(j).and_then(|r| r.get_mut(col)),
-                    ) {
-                        *e = x.clamp(-INF + 1, INF - 1);
-                    }
-                }
-            }
-            let mut column = Column::new(self, col, node, m.min(k).min(first), cost);
-            if kept {
+                column.read(rev);
                 let settled = rev.reverse_settled_to().unwrap_or(0);
                 if !column.proven(settled) {
-                    rev.resume_reverse(map, |v, h, key| column.settled(&poses, near, v, h, key))?;
+                    rev.resume_reverse(map, |v, h, key| column.settled(v, h, key))?;
                 }
             } else {
                 let p = bounds.pos(node);
-                rev.compute_reverse(map, ctx.timing, p, |v, h, key| {
-                    column.settled(&poses, near, v, h, key)
+                rev.compute_reverse_jumping(map, ctx.timing, p, |v, h, key| {
+                    column.settled(v, h, key)
                 })?;
             }
         }
@@ -362,7 +358,7 @@ impl Candidates {
                     .and_then(|f| f.reverse_settled_to())
                     .filter(|&t| t < Ticks::MAX && spent & (1 << col) == 0);
                 for (j, x) in row.iter_mut().enumerate().take(k) {
-                    let stands = poses.get(j).is_some_and(Option::is_some);
+                    let stands = exits.get(j).is_some_and(|e| e.iter().next().is_some());
                     *x = match from {
                         Some(at) if stands && self.at(j, col) == INF => {
                             cost(j, node, at).map_or(INF, |x| x.clamp(-INF + 1, INF - 1))
@@ -417,8 +413,9 @@ impl Candidates {
                 };
                 let before = self.found_in(col);
                 let want = before.count_ones() as usize + 1;
-                let mut column = Column::new(self, col, node, want, cost);
-                rev.resume_reverse(map, |v, h, key| column.settled(&poses, near, v, h, key))?;
+                let mut column = Column::new(self, (col, node), want, cost, (exits, near));
+                column.read(rev);
+                rev.resume_reverse(map, |v, h, key| column.settled(v, h, key))?;
                 if self.found_in(col) == before {
                     spent |= 1 << col;
                 }
@@ -489,6 +486,16 @@ struct Column<'a> {
     /// still can at the next one, and is asked first.
     blocker: Option<usize>,
     cost: &'a mut dyn FnMut(usize, usize, Ticks) -> Option<i64>,
+    /// Each robot's exits, and the mask of their nodes (bit `node % 64`).
+    exits: &'a [CorridorExits; MAX_ROBOTS],
+    near: u64,
+    /// Each robot's cheapest time through the exits settled so far, and
+    /// which exits those are (bit e: exit e).
+    best: [Ticks; MAX_ROBOTS],
+    seen: [u8; MAX_ROBOTS],
+    /// The robots with an exit settled whose time is not proven yet: an
+    /// exit not settled might still be cheaper.
+    pending: u32,
 }
 
 impl<'a> Column<'a> {
@@ -496,10 +503,10 @@ impl<'a> Column<'a> {
     /// read off it, to be searched until its `want` cheapest are proven.
     fn new(
         c: &'a mut Candidates,
-        col: usize,
-        node: usize,
+        (col, node): (usize, usize),
         want: usize,
         cost: &'a mut dyn FnMut(usize, usize, Ticks) -> Option<i64>,
+        (exits, near): (&'a [CorridorExits; MAX_ROBOTS], u64),
     ) -> Column<'a> {
         let found = c.found_in(col).count_ones() as usize;
         let k = c.k;
@@ -514,11 +521,83 @@ impl<'a> Column<'a> {
             proven_at: None,
             blocker: None,
             cost,
+            exits,
+            near,
+            best: [Ticks::MAX; MAX_ROBOTS],
+            seen: [0; MAX_ROBOTS],
+            pending: 0,
+        }
+    }
+
+    /// Reads the exits that `rev`, this column's search carried over or
+    /// stopped before, has settled already; records the robots it proves.
+    fn read<F: AsRef<[PlanCell]> + AsMut<[PlanCell]>>(&mut self, rev: &DistField<F>) {
+        let Some(at) = rev.reverse_settled_to() else {
+            return;
+        };
+        for j in 0..self.k {
+            let Some(x) = self.exits.get(j) else { continue };
+            if self.c.at(j, self.col) != INF {
+                continue;
+            }
+            for (e, (v, h, off)) in x.iter().enumerate() {
+                if let Some(d) = rev.dist_pose_at(v, h) {
+                    self.reached(j, e, off + d);
+                }
+            }
+        }
+        self.promote(at);
+    }
+
+    /// Robot `j`'s exit `e` is settled: it can get to the goal in `time`.
+    fn reached(&mut self, j: usize, e: usize, time: Ticks) {
+        if let (Some(b), Some(s)) = (self.best.get_mut(j), self.seen.get_mut(j)) {
+            *b = (*b).min(time);
+            *s |= 1 << e;
+            self.pending |= 1 << j;
+        }
+    }
+
+    /// Records every pending robot whose time is proven once every state
+    /// not settled costs at least `at` (see `CorridorExits::time_in`).
+    fn promote(&mut self, at: Ticks) {
+        let mut rest = self.pending;
+        while rest != 0 {
+            let j = rest.trailing_zeros() as usize;
+            rest &= rest - 1;
+            let (Some(x), Some(&best), Some(&seen)) =
+                (self.exits.get(j), self.best.get(j), self.seen.get(j))
+            else {
+                continue;
+            };
+            let unseen = x
+                .iter()
+                .enumerate()
+                .filter(|&(e, _)| seen & (1 << e) == 0)
+                .map(|(_, (_, _, off))| off)
+                .min()
+                .unwrap_or(Ticks::MAX);
+            if best > at.saturating_add(unseen) {
+                continue;
+            }
+            self.pending &= !(1 << j);
+            if let (Some(x), Some(e)) = (
+                (self.cost)(j, self.node, best),
+                self.c.cost.get_mut(j).and_then(|r| r.get_mut(self.col)),
+            ) {
+                if *e == INF {
+                    *e = x.clamp(-INF + 1, INF - 1);
+                    self.found += 1;
+                    self.cut = None;
+                    self.proven_at = None;
+                }
+            }
         }
     }
 
     /// Whether no robot not found yet, standing at travel `at` or more, can
-    /// beat the want-th cheapest found.
+    /// beat the want-th cheapest found. A pending robot stands there too:
+    /// its exits settled so far cost more than that, or it would be found.
     fn proven(&mut self, at: Ticks) -> bool {
         if self.found < self.want {
             return false;
@@ -538,32 +617,20 @@ impl<'a> Column<'a> {
     }
 
     /// The search settled state (`v`, `h`) at `key`: finds the robots
-    /// standing there, and stops once the column is proven.
-    fn settled(
-        &mut self,
-        poses: &[Option<(usize, Heading)>; MAX_ROBOTS],
-        near: u64,
-        v: usize,
-        h: Heading,
-        key: Ticks,
-    ) -> Flow {
-        if near & (1 << (v % 64)) != 0 {
-            for (j, pose) in poses.iter().enumerate().take(self.k) {
-                if *pose != Some((v, h)) {
-                    continue;
-                }
-                if let (Some(x), Some(e)) = (
-                    (self.cost)(j, self.node, key),
-                    self.c.cost.get_mut(j).and_then(|r| r.get_mut(self.col)),
-                ) {
-                    if *e == INF {
-                        *e = x.clamp(-INF + 1, INF - 1);
-                        self.found += 1;
-                        self.cut = None;
-                        self.proven_at = None;
+    /// that leave through it, and stops once the column is proven.
+    fn settled(&mut self, v: usize, h: Heading, key: Ticks) -> Flow {
+        if self.near & (1 << (v % 64)) != 0 {
+            for j in 0..self.k {
+                let Some(x) = self.exits.get(j) else { continue };
+                for (e, (xv, xh, off)) in x.iter().enumerate() {
+                    if (xv, xh) == (v, h) && self.c.at(j, self.col) == INF {
+                        self.reached(j, e, off + key);
                     }
                 }
             }
+        }
+        if self.pending != 0 {
+            self.promote(key);
         }
         // Keys only grow, so one check per key.
         if self.found < self.want || self.proven_at == Some(key) {

@@ -286,22 +286,33 @@ proptest! {
 /// end and two robots near each, the nearest robot at each end is the
 /// optimum, and neither search needs the second robot, which the eager
 /// endgame (each node's m cheapest robots) finds. Both give the optimum.
+/// The robots stand on junctions (a dead end south of each), so that each
+/// is found where it stands; in a corridor it is found as soon as either
+/// end of it is.
 #[test]
 fn the_lazy_endgame_searches_only_as_far_as_the_assignment_needs() {
-    let b = Bounds::new(Pos::new(0, 0), 14, 1);
+    let b = Bounds::new(Pos::new(0, 0), 14, 2);
     let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).unwrap();
     let through = Arms::NONE.with(Heading::East).with(Heading::West);
+    let stands = [2, 4, 9, 11];
     for x in 1..=12 {
-        map.visit(Pos::new(x, 0), through, RobotId(0)).unwrap();
+        let arms = if stands.contains(&x) {
+            map.visit(Pos::new(x, 0), Arms::NONE.with(Heading::North), RobotId(0))
+                .unwrap();
+            through.with(Heading::South)
+        } else {
+            through
+        };
+        map.visit(Pos::new(x, 1), arms, RobotId(0)).unwrap();
     }
     assert_eq!(map.frontier_len(), 2);
-    let robots: Vec<RobotView> = [2, 4, 9, 11]
+    let robots: Vec<RobotView> = stands
         .iter()
         .map(|&x| RobotView {
-            pos: Pos::new(x, 0),
+            pos: Pos::new(x, 1),
             heading: Heading::East,
             eta: 0,
-            home: Pos::new(x, 0),
+            home: Pos::new(x, 1),
             target: None,
         })
         .collect();
@@ -338,6 +349,7 @@ fn the_lazy_endgame_searches_only_as_far_as_the_assignment_needs() {
             .map(|col| col.map(|col| b.pos(c.nodes[col]).x as u16))
             .collect();
         assert_eq!(got, vec![Some(0), None, None, Some(13)], "lazy {lazy}");
+        assert!(c.nodes[..2].iter().all(|&i| b.pos(i).y == 1));
         // How far each frontier node's search went.
         let mut reach: Vec<(usize, Ticks)> = fields
             .iter()

@@ -1,3 +1,4 @@
+use super::super::exits::tests::{exit_times, pose_times, proves_all_below};
 use super::super::tests::{bfs_order, random_arms, tree_arms};
 use super::super::*;
 use crate::geometry::Arms;
@@ -25,7 +26,7 @@ fn states(f: &DistField<Vec<PlanCell>>, b: Bounds) -> Vec<Option<Ticks>> {
 #[allow(clippy::type_complexity)]
 fn stopped_search(
     b: Bounds,
-    (seed, tree): (u64, bool),
+    (seed, tree, jumping): (u64, bool, bool),
     known: usize,
     pick: usize,
     first: usize,
@@ -49,8 +50,12 @@ fn stopped_search(
     let frontier: Vec<Pos> = map.frontier().collect();
     let goal = *frontier.get(pick % frontier.len().max(1))?;
     let mut kept = field_for(b.area());
-    kept.compute_reverse(&map, Timing::DEFAULT, goal, stop_after(first))
-        .unwrap();
+    if jumping {
+        kept.compute_reverse_jumping(&map, Timing::DEFAULT, goal, stop_after(first))
+    } else {
+        kept.compute_reverse(&map, Timing::DEFAULT, goal, stop_after(first))
+    }
+    .unwrap();
     Some((arms, order, map, goal, kept))
 }
 
@@ -74,9 +79,13 @@ fn stop_after(limit: usize) -> impl FnMut(usize, Heading, Ticks) -> Flow {
 fn agrees_on(
     kept: &mut DistField<Vec<PlanCell>>,
     map: &KnownMap<Vec<Block>>,
-    want: &[Option<Ticks>],
+    fresh: &DistField<Vec<PlanCell>>,
     second: usize,
 ) -> Result<(), TestCaseError> {
+    if kept.jumping {
+        return jumping_agrees_on(kept, map, &pose_times(fresh, map), second);
+    }
+    let want = &states(fresh, map.bounds());
     let b = map.bounds();
     let bound = kept.reverse_settled_to().unwrap();
     for (s, (got, want)) in states(kept, b).iter().zip(want).enumerate() {
@@ -97,7 +106,28 @@ fn agrees_on(
         }
     }
     kept.resume_reverse(map, |_, _, _| Flow::Continue).unwrap();
-    prop_assert_eq!(states(kept, b), want);
+    prop_assert_eq!(&states(kept, b), want);
+    Ok(())
+}
+
+/// [`agrees_on`] for a jumping search, which settles no corridor state:
+/// every pose's time as its exits prove it, against `want`, a fresh plain
+/// search's.
+fn jumping_agrees_on(
+    kept: &mut DistField<Vec<PlanCell>>,
+    map: &KnownMap<Vec<Block>>,
+    want: &[Option<Ticks>],
+    second: usize,
+) -> Result<(), TestCaseError> {
+    let t = Timing::DEFAULT;
+    let bound = kept.reverse_settled_to().unwrap();
+    proves_all_below(&exit_times(kept, map, t), want, bound)?;
+    kept.resume_reverse(map, stop_after(second)).unwrap();
+    let bound = kept.reverse_settled_to().unwrap();
+    proves_all_below(&exit_times(kept, map, t), want, bound)?;
+    kept.resume_reverse(map, |_, _, _| Flow::Continue).unwrap();
+    prop_assert_eq!(kept.reverse_settled_to(), Some(Ticks::MAX));
+    prop_assert_eq!(exit_times(kept, map, t), want);
     Ok(())
 }
 
@@ -115,9 +145,10 @@ proptest! {
     fn a_refreshed_reverse_search_agrees_with_a_fresh_one(
         w in 2u16..10, h in 2u16..10, seed in any::<u64>(), tree in any::<bool>(),
         known in 1usize..80, more in 1usize..6, pick in any::<usize>(),
-        first in 0usize..300, second in 0usize..300,
+        first in 0usize..300, second in 0usize..300, jumping in any::<bool>(),
     ) {
-        refreshed_agrees(Bounds::new(Pos::new(0, 0), w, h), (seed, tree), known, more, pick, (first, second))?;
+        let b = Bounds::new(Pos::new(0, 0), w, h);
+        refreshed_agrees(b, (seed, tree, jumping), known, more, pick, (first, second))?;
     }
 }
 
@@ -126,7 +157,7 @@ proptest! {
 /// search was kept.
 fn refreshed_agrees(
     b: Bounds,
-    arms_seed: (u64, bool),
+    arms_seed: (u64, bool, bool),
     known: usize,
     more: usize,
     pick: usize,
@@ -149,7 +180,7 @@ fn refreshed_agrees(
         return Ok(false);
     }
     prop_assert!(map.is_frontier_at(b.index(goal).unwrap()));
-    agrees_on(&mut kept, &map, &states(&fresh, b), second)?;
+    agrees_on(&mut kept, &map, &fresh, second)?;
     Ok(true)
 }
 
@@ -160,7 +191,7 @@ fn refreshed_agrees(
 #[test]
 fn a_loop_beside_an_unsettled_state_is_refused() {
     let b = Bounds::new(Pos::new(0, 0), 6, 9);
-    let case = (10_064_411_082_706_577_908, false);
+    let case = (10_064_411_082_706_577_908, false, false);
     let kept = refreshed_agrees(b, case, 35, 2, 4_020_568_598_058_815_244, (89, 0));
     assert!(!kept.unwrap());
 }
@@ -177,11 +208,11 @@ proptest! {
     fn a_rebased_reverse_search_agrees_with_a_fresh_one(
         w in 2u16..10, h in 2u16..10, seed in any::<u64>(), tree in any::<bool>(),
         known in 1usize..80, more in 0usize..4, pick in any::<usize>(), child in any::<usize>(),
-        first in 0usize..300, second in 0usize..300,
+        first in 0usize..300, second in 0usize..300, jumping in any::<bool>(),
     ) {
         let b = Bounds::new(Pos::new(0, 0), w, h);
         let Some((arms, order, mut map, u, mut kept)) =
-            stopped_search(b, (seed, tree), known, pick, first) else {
+            stopped_search(b, (seed, tree, jumping), known, pick, first) else {
             return Ok(());
         };
         let t = Timing::DEFAULT;
@@ -215,7 +246,7 @@ proptest! {
         if let Some(b0) = before.filter(|&b0| b0 > 0 && b0 < Ticks::MAX) {
             prop_assert!(bound >= b0 + t.edge, "bound {} after {}", bound, b0);
         }
-        agrees_on(&mut kept, &map, &states(&fresh, b), second)?;
+        agrees_on(&mut kept, &map, &fresh, second)?;
         // What the rebased search touched, the next search clears.
         kept.compute_reverse(&map, t, b.pos(x), |_, _, _| Flow::Continue).unwrap();
         prop_assert_eq!(states(&kept, b), states(&fresh, b));
