@@ -172,7 +172,7 @@ pub(super) fn walk<M: AsRef<[Block]> + AsMut<[Block]>>(
 /// search into it) is passed all the same, as only the states outside
 /// corridors are ever read from a jumping reverse search (see
 /// `CorridorExits`).
-#[inline]
+#[inline(always)]
 pub(super) fn walk_back<M: AsRef<[Block]> + AsMut<[Block]>>(
     map: &KnownMap<M>,
     (bounds, t): (Bounds, Timing),
@@ -180,18 +180,24 @@ pub(super) fn walk_back<M: AsRef<[Block]> + AsMut<[Block]>>(
     (w, h, key): (usize, usize, Ticks),
 ) -> ((usize, usize, Ticks), bool) {
     let (mut w, mut h, mut key) = (w, h, key);
+    // The arms of `w`, carried from one node to the next: each node's
+    // cell is read once.
+    let mut bits = arms_at(map, w).map_or(0, |a| a.bits());
     let mut jumped = false;
     // A walk back can only close a loop at a node that is no corridor
     // node; the bound guards a corrupt map.
     for _ in 0..bounds.area() {
-        let Some(o) = other_arm(map, goal, w, h) else {
+        let toward = 1u8 << (h & 3);
+        if w == goal || bits.count_ones() != 2 || bits & toward == 0 {
             break;
-        };
+        }
+        let o = (bits & !toward).trailing_zeros() as usize;
         let into = (o + 2) & 3;
         let Some(u) = neighbour_index(bounds, w, Heading::from_index(o as u8)) else {
             break;
         };
-        if !arms_at(map, u).is_some_and(|a| a.has(Heading::from_index(into as u8))) {
+        let behind = arms_at(map, u).map_or(0, |a| a.bits());
+        if behind & (1 << into) == 0 {
             break;
         }
         let turn = if into == h { 0 } else { t.quarter_turn };
@@ -199,7 +205,7 @@ pub(super) fn walk_back<M: AsRef<[Block]> + AsMut<[Block]>>(
         if next > MAX_DIST {
             break;
         }
-        (w, h, key) = (u, into, next);
+        (w, h, key, bits) = (u, into, next, behind);
         jumped = true;
     }
     ((w, h, key), jumped)
