@@ -305,6 +305,10 @@ impl Candidates {
             }
         }
         let first = if lazy { FIRST_ROBOTS } else { k };
+        // Jump along corridors where they are most of the map, as the
+        // picks do (see `picks::jumps_pay`); a kept search goes on as it
+        // began, and the exits price a robot alike either way.
+        let jumping = super::picks::jumps_pay(map);
         for col in 0..m {
             let (Some((s, held)), Some(&node)) =
                 (slot.get(col).copied().flatten(), self.nodes.get(col))
@@ -325,9 +329,12 @@ impl Candidates {
                 }
             } else {
                 let p = bounds.pos(node);
-                rev.compute_reverse_jumping(map, ctx.timing, p, |v, h, key| {
-                    column.settled(v, h, key)
-                })?;
+                let reached = |v, h, key| column.settled(v, h, key);
+                if jumping {
+                    rev.compute_reverse_jumping(map, ctx.timing, p, reached)?;
+                } else {
+                    rev.compute_reverse(map, ctx.timing, p, reached)?;
+                }
             }
         }
         if !lazy {
