@@ -336,6 +336,9 @@ impl Candidates {
                     rev.compute_reverse(map, ctx.timing, p, reached)?;
                 }
             }
+            // A search that ran out proves every robot with an exit it
+            // settled, though no state came after to say so.
+            column.read(rev);
         }
         if !lazy {
             return Ok(true);
@@ -423,6 +426,7 @@ impl Candidates {
                 let mut column = Column::new(self, (col, node), want, cost, (exits, near));
                 column.read(rev);
                 rev.resume_reverse(map, |v, h, key| column.settled(v, h, key))?;
+                column.read(rev);
                 if self.found_in(col) == before {
                     spent |= 1 << col;
                 }
@@ -536,8 +540,8 @@ impl<'a> Column<'a> {
         }
     }
 
-    /// Reads the exits that `rev`, this column's search carried over or
-    /// stopped before, has settled already; records the robots it proves.
+    /// Reads the exits that `rev`, this column's search (carried over,
+    /// stopped or run out), has settled; records the robots it proves.
     fn read<F: AsRef<[PlanCell]> + AsMut<[PlanCell]>>(&mut self, rev: &DistField<F>) {
         let Some(at) = rev.reverse_settled_to() else {
             return;
