@@ -23,6 +23,7 @@ pub const MAX_CANDIDATES: usize = MAX_ROBOTS * MAX_ROBOTS;
 const INF: i64 = 1 << 52;
 
 mod burgard;
+mod columns;
 mod endgame;
 mod picks;
 pub use burgard::BurgardGreedy;
@@ -217,7 +218,15 @@ impl Candidates {
         }
         if spread == 0
             && ctx.map.frontier_len() < per_robot.min(k)
-            && Self::endgame(ctx, fields, (lazy, reverse), &cost, &floor, bound, c)?
+            && Self::endgame(
+                ctx,
+                fields,
+                (lazy, reverse),
+                &cost,
+                &floor,
+                bound,
+                (c, workers),
+            )?
         {
             return Ok(true);
         }
