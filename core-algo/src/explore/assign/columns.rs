@@ -271,6 +271,8 @@ impl Candidates {
             }
         }
         let mut results = [Ok(()); MAX_ROBOTS];
+        // The columns whose search runs: only those are written back.
+        let mut ran = 0u32;
         let mut jobs = heapless::Vec::<_, MAX_ROBOTS>::new();
         let columns = lent
             .iter_mut()
@@ -284,6 +286,7 @@ impl Candidates {
                 *x = self.at(j, col);
             }
             let (want, how) = (want(self, col), grow(col));
+            ran |= 1 << col;
             let job = move || {
                 *result = search_column(ctx, rev, (node, how, want), (out, k), robots, cost);
             };
@@ -304,7 +307,7 @@ impl Candidates {
         drop(run);
         drop(jobs);
         for (col, out) in costs.iter().enumerate().take(m) {
-            if cols & (1 << col) == 0 {
+            if ran & (1 << col) == 0 {
                 continue;
             }
             for (j, &x) in out.iter().enumerate().take(k) {
