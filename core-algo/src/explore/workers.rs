@@ -28,6 +28,21 @@ impl core::fmt::Debug for dyn Workers {
     }
 }
 
+/// Hands every job of `jobs` to `workers` at once, and returns when all
+/// have returned: the one way a decision's independent searches (the
+/// picks, the endgame's columns) reach the cores.
+pub(crate) fn run_all<J: FnMut() + Send>(workers: &dyn Workers, jobs: &mut [J]) {
+    let mut run = heapless::Vec::<&mut (dyn FnMut() + Send), { super::MAX_ROBOTS }>::new();
+    for job in jobs.iter_mut() {
+        // Past `MAX_ROBOTS` jobs (no caller has as many), run the rest
+        // in turn here.
+        if let Err(job) = run.push(job) {
+            job();
+        }
+    }
+    workers.run(&mut run);
+}
+
 /// One core: every job in turn, first to last. What a robot runs.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct InOrder;

@@ -298,13 +298,7 @@ impl Candidates {
                 });
             }
         }
-        let mut run = heapless::Vec::<&mut (dyn FnMut() + Send), MAX_ROBOTS>::new();
-        for job in jobs.iter_mut() {
-            // As many as `jobs`: cannot fail.
-            let _ = run.push(job);
-        }
-        workers.run(&mut run);
-        drop(run);
+        crate::explore::workers::run_all(workers, &mut jobs);
         drop(jobs);
         for (col, out) in costs.iter().enumerate().take(m) {
             if ran & (1 << col) == 0 {

@@ -198,13 +198,7 @@ impl Picks {
                 });
             }
         }
-        let mut run = heapless::Vec::<&mut (dyn FnMut() + Send), MAX_ROBOTS>::new();
-        for job in jobs.iter_mut() {
-            // As many as `jobs`: cannot fail.
-            let _ = run.push(job);
-        }
-        workers.run(&mut run);
-        drop(run);
+        crate::explore::workers::run_all(workers, &mut jobs);
         drop(jobs);
         results.into_iter().collect()
     }
