@@ -46,12 +46,12 @@ pub(super) struct Picks {
 }
 
 /// Whether the picks' searches (and the endgame's reverse searches) jump
-/// along corridors: when at least half the visited nodes have two arms. On a maze (four in five) a jumping
-/// search costs half a plain one; on rooms fields (one in ten) the check
-/// at every drive costs more than the few jumps save: a 16-robot run on
-/// rooms 128² took 79 s jumping against 62 s (docs/results/performance.md,
-/// stop 42). Every robot decides it alike from its own map, so their
-/// predictions of each other agree.
+/// along corridors: when at least half the visited nodes have two arms.
+/// On a maze (four in five) a jumping search costs half a plain one; on
+/// rooms fields (one in ten) the check at every drive costs more than the
+/// few jumps save: a 16-robot run on rooms 128² took 79 s jumping against
+/// 62 s (docs/results/performance.md, stop 42). Every robot decides it
+/// alike from its own map, so their predictions of each other agree.
 pub(super) fn jumps_pay<M: AsRef<[Block]> + AsMut<[Block]>>(map: &crate::map::KnownMap<M>) -> bool {
     2 * map.two_armed_len() >= map.visited_len()
 }
