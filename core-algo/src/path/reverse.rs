@@ -37,11 +37,11 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// of states outside corridors, as a robot anywhere reads them through
     /// its [`CorridorExits`](super::CorridorExits): it jumps along
     /// corridors (see `corridor`), and a corridor state is not settled, or
-    /// may be settled dearer than it is. Every other state is reported cheapest first with the time a
-    /// plain search gives it (states at the same time may come in another
-    /// order). It can be refreshed, rebased and resumed as the plain one
-    /// can, and goes on jumping; it is never a whole reverse field
-    /// ([`DistField::way_out`] reads none from it).
+    /// may be settled dearer than it is. Every other state is reported
+    /// cheapest first with the time a plain search gives it (states at the
+    /// same time may come in another order). It can be refreshed, rebased
+    /// and resumed as the plain one can, and goes on jumping; it is never a
+    /// whole reverse field ([`DistField::way_out`] reads none from it).
     ///
     /// Why: once fewer frontier nodes than robots are left, tempo searches
     /// back from every frontier node at every decision, and late in a maze
