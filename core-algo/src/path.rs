@@ -37,6 +37,10 @@ use crate::timing::{Ticks, Timing};
 use core::fmt;
 pub use corridor::JUMP_SLOTS;
 pub use exits::CorridorExits;
+pub use record::{
+    Reached, RecordedSearch, SearchKey, SearchMemo, SearchRecorder, SearchState, node_mark,
+    reads_same,
+};
 pub use refresh::way_in;
 use scratch::{DIST_MASK, Dirty, NO_OFF, ON_WAY, Queues, SETTLED_SHIFT};
 pub use scratch::{MAX_DIST, PlanCell, SMALL_WINDOW, min_cells};
@@ -584,6 +588,7 @@ mod astar;
 mod corridor;
 mod descent;
 mod exits;
+mod record;
 mod refresh;
 mod reverse;
 mod scratch;

@@ -9,18 +9,41 @@
 //! run's deciding time on rooms 128² and 7 % on maze 128²
 //! (docs/results/performance.md, stop 43).
 
+use crate::memo::HostMemo;
 use core_algo::explore::Workers;
+use core_algo::path::SearchMemo;
 use rayon::prelude::*;
 
 /// Runs jobs on rayon's global pool (all cores), each job stealable on its
-/// own, since one search can cost a thousand times another.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct HostCores;
+/// own, since one search can cost a thousand times another; and keeps the
+/// searches that the next decisions may take over ([`HostMemo`]).
+#[derive(Debug, Default)]
+pub struct HostCores {
+    memo: HostMemo,
+}
+
+impl HostCores {
+    /// The pool, with a memo of its own.
+    pub const fn new() -> HostCores {
+        HostCores {
+            memo: HostMemo::new(),
+        }
+    }
+
+    /// The memo of searches the strategies share.
+    pub fn memo(&self) -> &HostMemo {
+        &self.memo
+    }
+}
 
 /// The pool every host-side strategy shares.
-pub static HOST_CORES: HostCores = HostCores;
+pub static HOST_CORES: HostCores = HostCores::new();
 
 impl Workers for HostCores {
+    fn memo(&self) -> Option<&dyn SearchMemo> {
+        Some(&self.memo)
+    }
+
     fn run(&self, jobs: &mut [&mut (dyn FnMut() + Send)]) {
         if jobs.len() < 2 {
             // Nothing to share: spare the hand-over.

@@ -44,6 +44,7 @@ pub mod environment;
 pub mod explore_cmd;
 pub mod field;
 pub mod handlers;
+pub mod memo;
 pub mod phone;
 pub mod proxy;
 pub mod qemu;

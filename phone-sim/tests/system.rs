@@ -388,6 +388,44 @@ fn tempo_on_every_core_runs_as_on_one() {
     assert_eq!(every.unwrap(), one);
 }
 
+/// Sixteen robots whose team-mate searches are taken over from the ones
+/// before them where the map reads the same (`phone_sim::memo`) run
+/// exactly as when each robot searches for itself, on rooms, a maze and
+/// a random field; and off the maze, most searches are taken over.
+#[test]
+fn searches_taken_over_from_a_memo_change_no_run() {
+    static CORES: phone_sim::cores::HostCores = phone_sim::cores::HostCores::new();
+    for (kind, seed) in [(Kind::Rooms, 4), (Kind::Maze, 5), (Kind::Random, 6)] {
+        let f = kind.generate(24, 24, seed);
+        let starts = field::default_starts(f.nodes(), 16);
+        let f = f.with_starts(starts).expect("16 starts");
+        let bf = phone_sim::bench::BenchField::from_field(&f, f.name().to_string());
+        let (took, wrote) = CORES.memo().counts();
+        let alone =
+            phone_sim::bench::run_system(&bf, 16, "tempo", 100, &core_algo::explore::InOrder);
+        let memo = phone_sim::bench::run_system(&bf, 16, "tempo", 100, &CORES);
+        let alone = alone.unwrap();
+        assert!(alone.complete, "{}", f.name());
+        assert_eq!(memo.unwrap(), alone, "{}", f.name());
+        let (took, wrote) = (
+            CORES.memo().counts().0 - took,
+            CORES.memo().counts().1 - wrote,
+        );
+        eprintln!(
+            "{}: {took} searches taken over, {wrote} written down",
+            f.name()
+        );
+        // A maze's searches jump along corridors, which nothing records.
+        if kind != Kind::Maze {
+            assert!(
+                took > wrote,
+                "{}: {took} taken over, {wrote} written down",
+                f.name()
+            );
+        }
+    }
+}
+
 /// Sixteen robots with tempo's far shares kept beside busy team mates
 /// (`far_busy_nodes_per_robot`, on by default only on fields of 4 096
 /// nodes per robot; here on at any size, and far from 8 edges, so that

@@ -264,7 +264,7 @@ impl Candidates {
                 if *s {
                     // Spread: the picks depend on those taken before.
                     let taken = c.nodes.get(..c.m).unwrap_or(&[]);
-                    p.grow(ctx, field, (j, r), (spread, taken), &cost, &floor)?;
+                    p.grow(ctx, field, (j, r), (spread, taken), (&cost, &floor), None)?;
                     *s = false;
                 }
                 for &(_, i) in p.brought() {

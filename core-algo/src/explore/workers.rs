@@ -14,12 +14,20 @@
 //! Only the host knows how to run threads, so the pool stays behind this
 //! trait and core-algo stays `no_std`.
 
+use crate::path::SearchMemo;
+
 /// Runs independent jobs, on more than one core where the host can.
 pub trait Workers: Sync {
     /// Calls every job once, on any thread and in any order, and returns
     /// when all have returned. Jobs share nothing mutable, so any order
     /// gives the same result.
     fn run(&self, jobs: &mut [&mut (dyn FnMut() + Send)]);
+
+    /// Where the host keeps searches that the next decisions may take
+    /// over instead of searching again (see [`SearchMemo`]), if it does.
+    fn memo(&self) -> Option<&dyn SearchMemo> {
+        None
+    }
 }
 
 impl core::fmt::Debug for dyn Workers {

@@ -88,6 +88,11 @@ pub struct Report {
     pub localize_moves: Option<u32>,
     /// Wall time of the simulation, seconds.
     pub wall_s: f64,
+    /// Team-mate searches taken over from the host's memo rather than
+    /// searched again, since the process started (see `phone_sim::memo`).
+    pub searches_taken_over: u64,
+    /// Searches written down into the memo, since the process started.
+    pub searches_recorded: u64,
     /// Per robot.
     pub per_robot: Vec<RobotReport>,
 }
@@ -97,6 +102,7 @@ pub fn report(field: &Field, a: &ExploreArgs, timing: Timing, o: &Outcome, wall_
     let k = o.robots.len();
     let lower_bound_s = lower_bound_s(field, k, timing);
     let makespan_s = f64::from(o.makespan_ms) / 1000.0;
+    let (searches_taken_over, searches_recorded) = crate::cores::HOST_CORES.memo().counts();
     Report {
         field: field.name().to_string(),
         strategy: a.strategy.clone(),
@@ -130,6 +136,8 @@ pub fn report(field: &Field, a: &ExploreArgs, timing: Timing, o: &Outcome, wall_
             .map(|f| format!("{f:?}")),
         localize_moves: o.localization.as_ref().map(|l| l.moves),
         wall_s,
+        searches_taken_over,
+        searches_recorded,
         per_robot: o
             .robots
             .iter()
@@ -244,6 +252,13 @@ fn print_report(
         r.ratio,
         r.wall_s
     );
+    if r.searches_taken_over + r.searches_recorded > 0 {
+        crate::outln!(
+            "team-mate searches: {} taken over, {} written down",
+            r.searches_taken_over,
+            r.searches_recorded
+        );
+    }
     crate::outln!(
         "messages {} received, {} relayed; frames {} sent, {} lost, {} retransmitted; {} conflicts",
         r.messages,

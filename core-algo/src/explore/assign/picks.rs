@@ -5,7 +5,10 @@
 use super::INF;
 use crate::explore::{Context, MAX_ROBOTS, RobotView, Workers};
 use crate::map::Block;
-use crate::path::{DistField, Flow, PlanCell, PlanError};
+use crate::path::{
+    DistField, Flow, PlanCell, PlanError, Reached, RecordedSearch, SearchMemo, node_mark,
+    reads_same,
+};
 use crate::timing::Ticks;
 
 /// Most picks a robot brings to
@@ -43,6 +46,16 @@ pub(super) struct Picks {
     /// Frontier nodes its field has not reached yet.
     unseen: usize,
     started: bool,
+}
+
+/// What a robot's picks rank the nodes their search reaches by (see
+/// [`Picks::grow`]).
+struct Reach<'a, C, Fl> {
+    j: usize,
+    spread: u32,
+    taken: &'a [usize],
+    cost: &'a C,
+    floor: &'a Fl,
 }
 
 /// Whether the picks' searches (and the endgame's reverse searches) jump
@@ -87,22 +100,26 @@ impl Picks {
     /// Grows robot `j`'s (at pose `r`) field until its `want` cheapest
     /// frontier nodes are known: from scratch the first time, resumed after
     /// [`Picks::more`]. With `spread`, nodes that near a `taken` one are
-    /// skipped (then picks must not grow: `taken` changes).
+    /// skipped (then picks must not grow: `taken` changes). With a `memo`,
+    /// a plain search from scratch takes over a recorded one where it can
+    /// (see [`Picks::take_over`]) and is recorded where it cannot.
     pub(super) fn grow<M, F>(
         &mut self,
         ctx: &Context<'_, M>,
         field: &mut DistField<F>,
         (j, r): (usize, &RobotView),
         (spread, taken): (u32, &[usize]),
-        cost: &impl Fn(usize, usize, Ticks) -> Option<i64>,
-        floor: &impl Fn(usize, Ticks) -> i64,
+        (cost, floor): (
+            &impl Fn(usize, usize, Ticks) -> Option<i64>,
+            &impl Fn(usize, Ticks) -> i64,
+        ),
+        memo: Option<&dyn SearchMemo>,
     ) -> Result<(), PlanError>
     where
         M: AsRef<[Block]> + AsMut<[Block]>,
         F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
     {
         let map = ctx.map;
-        let bounds = map.bounds();
         let start = !self.started;
         if start {
             self.started = true;
@@ -110,54 +127,153 @@ impl Picks {
         } else if self.unseen == 0 {
             return Ok(());
         }
-        let p = self;
-        let reached = |i: usize, d: Ticks| {
-            if map.is_frontier_at(i) {
-                p.unseen = p.unseen.saturating_sub(1);
-                let at = bounds.pos(i);
-                let crowded = spread > 0
-                    && taken
-                        .iter()
-                        .any(|&q| q != i && bounds.pos(q).manhattan(at) <= spread);
-                if let (false, Some(x)) = (crowded, cost(j, i, d)) {
-                    // Insert in order; ties keep the earlier (nearer) node.
-                    let n = p.n;
-                    let slot = p
-                        .best
-                        .get(..n)
-                        .unwrap_or(&[])
-                        .iter()
-                        .position(|&(b, _)| x < b)
-                        .unwrap_or(n);
-                    if slot < PICKS {
-                        let end = n.min(PICKS - 1);
-                        if let Some(s) = p.best.get_mut(slot..=end) {
-                            s.rotate_right(1);
-                        }
-                        if let Some(s) = p.best.get_mut(slot) {
-                            *s = (x, i);
-                        }
-                        p.n = (n + 1).min(PICKS);
-                    }
+        let to = Reach {
+            j,
+            spread,
+            taken,
+            cost,
+            floor,
+        };
+        let (timing, pos, heading) = (ctx.timing, r.pos, r.heading);
+        if !start {
+            return field.resume(map, |i, d| self.reach(map, &to, i, d));
+        }
+        if jumps_pay(map) {
+            return field
+                .compute_jumping(map, timing, pos, heading, |i, d| self.reach(map, &to, i, d));
+        }
+        let (Some(memo), Some(key)) = (memo, field.search_key(map, timing, pos, heading)) else {
+            return field.compute(map, timing, pos, heading, |i, d| self.reach(map, &to, i, d));
+        };
+        let fresh = *self;
+        let mut result = Ok(());
+        let found = memo.recall(key, &mut |rec| {
+            *self = fresh;
+            match self.take_over(map, &to, field, (timing, rec)) {
+                Some(r) => {
+                    result = r;
+                    true
+                }
+                None => false,
+            }
+        });
+        if found {
+            return result;
+        }
+        *self = fresh;
+        memo.record(key, &mut |rec| {
+            result = field.compute(map, timing, pos, heading, |i, d| {
+                let mark = node_mark(map, i);
+                rec.reached(Reached {
+                    node: i as u32,
+                    dist: d,
+                    mark,
+                });
+                self.reach(map, &to, i, d)
+            });
+            if result.is_ok() {
+                if let Some(state) = field.write_down(|i, c| rec.cell(i, c)) {
+                    rec.finish(state);
                 }
             }
-            // No frontier node at travel d or beyond can beat the last pick.
-            let done = p.n >= p.want
-                && p.best
-                    .get(p.want - 1)
-                    .is_some_and(|&(b, _)| floor(j, d) > b);
-            if done || p.unseen == 0 {
-                Flow::Stop
-            } else {
-                Flow::Continue
+        });
+        result
+    }
+
+    /// Takes the recorded search `rec` over into `field` if its nodes read
+    /// the same in `map` and these picks, told what it reached in order,
+    /// stop where it stopped or go on past it: then they are what a search
+    /// of their own would have found, and the field is where that search
+    /// would stand (see `path::record`). `None` if not; the picks are then
+    /// spoilt, and the caller starts them again.
+    fn take_over<M, F>(
+        &mut self,
+        map: &crate::map::KnownMap<M>,
+        to: &Reach<'_, impl Fn(usize, usize, Ticks) -> Option<i64>, impl Fn(usize, Ticks) -> i64>,
+        field: &mut DistField<F>,
+        (timing, rec): (crate::timing::Timing, RecordedSearch<'_>),
+    ) -> Option<Result<(), PlanError>>
+    where
+        M: AsRef<[Block]> + AsMut<[Block]>,
+        F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+    {
+        if !reads_same(map, rec.reached) {
+            return None;
+        }
+        let (last, before) = rec.reached.split_last()?;
+        for x in before {
+            if self.reach(map, to, x.node as usize, x.dist) == Flow::Stop {
+                return None;
             }
-        };
-        if start && jumps_pay(map) {
-            field.compute_jumping(map, ctx.timing, r.pos, r.heading, reached)
-        } else if start {
-            field.compute(map, ctx.timing, r.pos, r.heading, reached)
+        }
+        let stop = self.reach(map, to, last.node as usize, last.dist) == Flow::Stop;
+        // A search of their own would stop here with its last state not
+        // expanded yet; the recorded one went on and ran out.
+        if stop && rec.state.ran_out() {
+            return None;
+        }
+        if let Err(e) = field.take_over(map, timing, rec) {
+            return Some(Err(e));
+        }
+        Some(if stop {
+            Ok(())
         } else {
-            field.resume(map, reached)
+            field.resume(map, |i, d| self.reach(map, to, i, d))
+        })
+    }
+
+    /// The picks' answer to their search reaching node `i` at travel `d`:
+    /// a frontier node is ranked by its cost, and the search stops once
+    /// no node at `d` or beyond can beat the last pick wanted.
+    fn reach<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &crate::map::KnownMap<M>,
+        to: &Reach<'_, impl Fn(usize, usize, Ticks) -> Option<i64>, impl Fn(usize, Ticks) -> i64>,
+        i: usize,
+        d: Ticks,
+    ) -> Flow {
+        let p = self;
+        let j = to.j;
+        if map.is_frontier_at(i) {
+            p.unseen = p.unseen.saturating_sub(1);
+            let bounds = map.bounds();
+            let at = bounds.pos(i);
+            let crowded = to.spread > 0
+                && to
+                    .taken
+                    .iter()
+                    .any(|&q| q != i && bounds.pos(q).manhattan(at) <= to.spread);
+            if let (false, Some(x)) = (crowded, (to.cost)(j, i, d)) {
+                // Insert in order; ties keep the earlier (nearer) node.
+                let n = p.n;
+                let slot = p
+                    .best
+                    .get(..n)
+                    .unwrap_or(&[])
+                    .iter()
+                    .position(|&(b, _)| x < b)
+                    .unwrap_or(n);
+                if slot < PICKS {
+                    let end = n.min(PICKS - 1);
+                    if let Some(s) = p.best.get_mut(slot..=end) {
+                        s.rotate_right(1);
+                    }
+                    if let Some(s) = p.best.get_mut(slot) {
+                        *s = (x, i);
+                    }
+                    p.n = (n + 1).min(PICKS);
+                }
+            }
+        }
+        // No frontier node at travel d or beyond can beat the last pick.
+        let done = p.n >= p.want
+            && p.best
+                .get(p.want - 1)
+                .is_some_and(|&(b, _)| (to.floor)(j, d) > b);
+        if done || p.unseen == 0 {
+            Flow::Stop
+        } else {
+            Flow::Continue
         }
     }
 
@@ -179,6 +295,7 @@ impl Picks {
         F: AsRef<[PlanCell]> + AsMut<[PlanCell]> + Send,
     {
         let mut results = [Ok(()); MAX_ROBOTS];
+        let memo = workers.memo();
         let mut jobs = heapless::Vec::<_, MAX_ROBOTS>::new();
         let robots = ctx.robots.iter().zip(fields.iter_mut());
         let own = picks
@@ -189,7 +306,7 @@ impl Picks {
             if !core::mem::take(s) {
                 continue;
             }
-            let job = move || *result = p.grow(ctx, field, (j, r), (0, &[]), cost, floor);
+            let job = move || *result = p.grow(ctx, field, (j, r), (0, &[]), (cost, floor), memo);
             // At most one job per robot: `jobs` holds them all.
             if jobs.push(job).is_err() {
                 return Err(PlanError::Capacity {

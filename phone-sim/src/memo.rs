@@ -1,0 +1,175 @@
+//! The simulator's memo of plain forward searches (see
+//! [`core_algo::path::SearchMemo`]): the team mates' searches that every
+//! robot of a simulated team repeats, kept for the decisions that follow.
+//!
+//! A search is taken over only where every node it reached reads the same
+//! in the deciding robot's map, so what the memo holds, or which search
+//! recorded it (another robot's, another run's), never changes a
+//! decision: it saves the search, nothing else.
+
+use core_algo::path::{
+    PlanCell, Reached, RecordedSearch, SearchKey, SearchMemo, SearchRecorder, SearchState,
+};
+use std::collections::{BTreeMap, VecDeque};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+
+/// Searches kept per start pose: a team mate's pose is searched again
+/// while it drives an edge, on maps that grow elsewhere.
+const PER_KEY: usize = 4;
+
+/// Bytes of records kept at most; the oldest go first.
+const MAX_BYTES: usize = 256 << 20;
+
+/// Nodes a record may hold: a search that reaches more (a whole 1024²
+/// window) is not kept.
+const MAX_REACHED: usize = 1 << 18;
+
+/// See the module docs.
+#[derive(Debug)]
+pub struct HostMemo {
+    store: Mutex<Store>,
+    taken_over: AtomicU64,
+    recorded: AtomicU64,
+}
+
+#[derive(Debug)]
+struct Store {
+    by_key: BTreeMap<SearchKey, Vec<Arc<Record>>>,
+    /// Every record kept, oldest first, for eviction.
+    order: VecDeque<(SearchKey, Arc<Record>)>,
+    bytes: usize,
+}
+
+#[derive(Debug)]
+struct Record {
+    reached: Vec<Reached>,
+    cells: Vec<(u32, PlanCell)>,
+    state: SearchState,
+}
+
+impl Record {
+    fn bytes(&self) -> usize {
+        self.reached.len() * size_of::<Reached>() + self.cells.len() * size_of::<(u32, PlanCell)>()
+    }
+}
+
+impl HostMemo {
+    /// An empty memo.
+    pub const fn new() -> HostMemo {
+        HostMemo {
+            store: Mutex::new(Store {
+                by_key: BTreeMap::new(),
+                order: VecDeque::new(),
+                bytes: 0,
+            }),
+            taken_over: AtomicU64::new(0),
+            recorded: AtomicU64::new(0),
+        }
+    }
+
+    /// Searches taken over, and searches recorded, so far.
+    pub fn counts(&self) -> (u64, u64) {
+        (
+            self.taken_over.load(Ordering::Relaxed),
+            self.recorded.load(Ordering::Relaxed),
+        )
+    }
+
+    fn insert(&self, key: SearchKey, record: Record) {
+        let record = Arc::new(record);
+        // A poisoned lock only means another thread panicked mid-insert:
+        // every record in it is whole, so go on with it.
+        let mut s = self.store.lock().unwrap_or_else(|e| e.into_inner());
+        s.bytes += record.bytes();
+        let list = s.by_key.entry(key).or_default();
+        list.push(Arc::clone(&record));
+        if list.len() > PER_KEY {
+            list.remove(0);
+        }
+        s.order.push_back((key, record));
+        while s.bytes > MAX_BYTES {
+            let Some((k, old)) = s.order.pop_front() else {
+                break;
+            };
+            s.bytes -= old.bytes();
+            if let Some(list) = s.by_key.get_mut(&k) {
+                list.retain(|r| !Arc::ptr_eq(r, &old));
+                if list.is_empty() {
+                    s.by_key.remove(&k);
+                }
+            }
+        }
+    }
+}
+
+impl Default for HostMemo {
+    fn default() -> Self {
+        HostMemo::new()
+    }
+}
+
+impl SearchMemo for HostMemo {
+    fn recall(&self, key: SearchKey, take: &mut dyn FnMut(RecordedSearch<'_>) -> bool) -> bool {
+        // Out of the lock before trying them: trying one replays the search.
+        let list: Vec<Arc<Record>> = {
+            let s = self.store.lock().unwrap_or_else(|e| e.into_inner());
+            s.by_key.get(&key).cloned().unwrap_or_default()
+        };
+        for r in list.iter().rev() {
+            let rec = RecordedSearch {
+                reached: &r.reached,
+                cells: &r.cells,
+                state: r.state,
+            };
+            if take(rec) {
+                self.taken_over.fetch_add(1, Ordering::Relaxed);
+                return true;
+            }
+        }
+        false
+    }
+
+    fn record(&self, key: SearchKey, search: &mut dyn FnMut(&mut dyn SearchRecorder)) {
+        let mut rec = Recorder::default();
+        search(&mut rec);
+        if let (Some(state), false) = (rec.state, rec.too_long) {
+            self.recorded.fetch_add(1, Ordering::Relaxed);
+            let record = Record {
+                reached: rec.reached,
+                cells: rec.cells,
+                state,
+            };
+            self.insert(key, record);
+        }
+    }
+}
+
+/// A search being written down.
+#[derive(Default)]
+struct Recorder {
+    reached: Vec<Reached>,
+    cells: Vec<(u32, PlanCell)>,
+    state: Option<SearchState>,
+    too_long: bool,
+}
+
+impl SearchRecorder for Recorder {
+    fn reached(&mut self, r: Reached) {
+        if self.reached.len() < MAX_REACHED {
+            self.reached.push(r);
+        } else {
+            self.too_long = true;
+        }
+    }
+
+    fn cell(&mut self, i: u32, c: PlanCell) {
+        if !self.too_long {
+            self.cells.push((i, c));
+        }
+    }
+
+    fn finish(&mut self, state: SearchState) {
+        self.state = Some(state);
+    }
+}
