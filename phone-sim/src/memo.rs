@@ -44,13 +44,17 @@ struct Store {
 #[derive(Debug)]
 struct Record {
     reached: Vec<Reached>,
+    read: Vec<(u32, u8)>,
     cells: Vec<(u32, PlanCell)>,
     state: SearchState,
 }
 
 impl Record {
     fn bytes(&self) -> usize {
-        self.reached.len() * size_of::<Reached>() + self.cells.len() * size_of::<(u32, PlanCell)>()
+        size_of::<Record>()
+            + self.reached.len() * size_of::<Reached>()
+            + self.read.len() * size_of::<(u32, u8)>()
+            + self.cells.len() * size_of::<(u32, PlanCell)>()
     }
 }
 
@@ -119,8 +123,9 @@ impl SearchMemo for HostMemo {
         for r in list.iter().rev() {
             let rec = RecordedSearch {
                 reached: &r.reached,
+                read: &r.read,
                 cells: &r.cells,
-                state: r.state,
+                state: &r.state,
             };
             if take(rec) {
                 self.taken_over.fetch_add(1, Ordering::Relaxed);
@@ -133,10 +138,11 @@ impl SearchMemo for HostMemo {
     fn record(&self, key: SearchKey, search: &mut dyn FnMut(&mut dyn SearchRecorder)) {
         let mut rec = Recorder::default();
         search(&mut rec);
-        if let (Some(state), false) = (rec.state, rec.too_long) {
+        if let (Some(state), false) = (rec.state.take(), rec.too_long) {
             self.recorded.fetch_add(1, Ordering::Relaxed);
             let record = Record {
                 reached: rec.reached,
+                read: rec.read,
                 cells: rec.cells,
                 state,
             };
@@ -149,6 +155,7 @@ impl SearchMemo for HostMemo {
 #[derive(Default)]
 struct Recorder {
     reached: Vec<Reached>,
+    read: Vec<(u32, u8)>,
     cells: Vec<(u32, PlanCell)>,
     state: Option<SearchState>,
     too_long: bool,
@@ -158,6 +165,14 @@ impl SearchRecorder for Recorder {
     fn reached(&mut self, r: Reached) {
         if self.reached.len() < MAX_REACHED {
             self.reached.push(r);
+        } else {
+            self.too_long = true;
+        }
+    }
+
+    fn read(&mut self, node: u32, mark: u8) {
+        if self.read.len() < MAX_REACHED {
+            self.read.push((node, mark));
         } else {
             self.too_long = true;
         }

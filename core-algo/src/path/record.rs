@@ -16,15 +16,17 @@
 //!
 //! A plain forward search reads, of the map, only the nodes it reaches:
 //! whether each is a frontier node, and the known arms of those it drives
-//! on from. Everything else it does follows from its start, the timing
-//! and its own cells. So if every node a recorded search reached reads the
-//! same ([`node_mark`]) in another map, a search there from the same pose
-//! reaches the same nodes at the same times in the same order, and stands
-//! where the recorded one stopped with the same cells and queues. Resumed
-//! from there, it goes on as the fresh search would.
+//! on from. A jumping one also reads the corridor nodes its walks pass and
+//! the nodes they end on. Everything else it does follows from its start,
+//! the timing and its own cells. So if every node a recorded search read
+//! reads the same ([`node_mark`]) in another map, a search there from the
+//! same pose reaches the same nodes at the same times in the same order,
+//! and stands where the recorded one stopped with the same cells and
+//! queues. Resumed from there, it goes on as the fresh search would.
 
+use super::corridor::{Jumps, other_arm};
 use super::scratch::{DIST_MASK, Dirty, Queues};
-use super::{DistField, PlanCell, PlanError, arms_at};
+use super::{DistField, PlanCell, PlanError, arms_at, neighbour_index};
 use crate::geometry::Heading;
 use crate::map::{Block, KnownMap};
 use crate::timing::{Ticks, Timing};
@@ -39,6 +41,7 @@ pub struct SearchKey {
     timing: (Ticks, Ticks),
     start: usize,
     heading: u8,
+    jumping: bool,
 }
 
 /// One node a recorded search reached, in the order it reached them.
@@ -52,19 +55,20 @@ pub struct Reached {
     pub mark: u8,
 }
 
-/// What a recorded search holds besides its cells: where its queues stand
-/// and the box of cells it wrote.
-#[derive(Clone, Copy, Debug)]
+/// What a recorded search holds besides its cells: where its queues and
+/// jump arrivals stand, and the box of cells it wrote.
+#[derive(Clone, Debug)]
 pub struct SearchState {
     dirty: Dirty,
     queue: Queues,
+    jumps: Jumps,
     key: SearchKey,
 }
 
 impl SearchState {
     /// Whether the search ran to the end: nothing was left to reach.
     pub fn ran_out(&self) -> bool {
-        self.queue.ran_out()
+        self.queue.ran_out() && self.jumps.is_empty()
     }
 }
 
@@ -73,16 +77,22 @@ impl SearchState {
 pub struct RecordedSearch<'a> {
     /// Every node it reached, in order.
     pub reached: &'a [Reached],
+    /// Nodes it read without reaching them, with what it read of each
+    /// ([`node_mark`]): a jumping search's corridor nodes, and where its
+    /// walks through them end.
+    pub read: &'a [(u32, u8)],
     /// Every cell it wrote: (storage index, contents).
     pub cells: &'a [(u32, PlanCell)],
     /// Its queues and box.
-    pub state: SearchState,
+    pub state: &'a SearchState,
 }
 
 /// Where a search is written down while it runs (see [`SearchMemo::record`]).
 pub trait SearchRecorder {
     /// The search reached a node.
     fn reached(&mut self, r: Reached);
+    /// The search read a node it did not reach (see [`RecordedSearch::read`]).
+    fn read(&mut self, node: u32, mark: u8);
     /// A cell the search wrote.
     fn cell(&mut self, i: u32, c: PlanCell);
     /// The search is written down whole: without this call it is dropped.
@@ -110,25 +120,30 @@ pub fn node_mark<M: AsRef<[Block]> + AsMut<[Block]>>(map: &KnownMap<M>, i: usize
     arms | if map.is_frontier_at(i) { 0x20 } else { 0 }
 }
 
-/// Whether every node of `reached` reads in `map` as it did.
+/// Whether every node `rec` read reads in `map` as it did.
 pub fn reads_same<M: AsRef<[Block]> + AsMut<[Block]>>(
     map: &KnownMap<M>,
-    reached: &[Reached],
+    rec: RecordedSearch<'_>,
 ) -> bool {
-    reached
+    rec.reached
         .iter()
         .all(|r| node_mark(map, r.node as usize) == r.mark)
+        && rec
+            .read
+            .iter()
+            .all(|&(i, m)| node_mark(map, i as usize) == m)
 }
 
 impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// The key a search from (`start`, `heading`) over `map` with `timing`
-    /// in this field is recorded under, if the start lies in the window.
+    /// in this field, `jumping` or plain, is recorded under, if the start
+    /// lies in the window.
     pub fn search_key<M: AsRef<[Block]> + AsMut<[Block]>>(
         &self,
         map: &KnownMap<M>,
         timing: Timing,
-        start: crate::geometry::Pos,
-        heading: Heading,
+        (start, heading): (crate::geometry::Pos, Heading),
+        jumping: bool,
     ) -> Option<SearchKey> {
         let b = map.bounds();
         let t = super::searchable(timing);
@@ -138,31 +153,43 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             timing: (t.edge, t.quarter_turn),
             start: b.index(start)?,
             heading: heading.index(),
+            jumping,
         })
     }
 
-    /// Hands every cell the last search wrote to `cell` (those it settled,
-    /// and the queue slots still waiting), and returns its state, if it is
-    /// a plain forward search that a map vouched for ([`DistField::compute`],
-    /// not jumping).
-    pub fn write_down(&self, mut cell: impl FnMut(u32, PlanCell)) -> Option<SearchState> {
-        let key = self.key()?;
-        let usable = self.tree.is_some()
-            && !self.jumping
+    /// Writes the last search down into `rec`, if it is a forward search
+    /// from a start that a map vouched for ([`DistField::compute`] or
+    /// [`DistField::compute_jumping`]) and `map` is that map: every cell it
+    /// wrote (those it settled, and the queue slots still waiting), the
+    /// nodes a jumping search read without reaching them, and its state.
+    /// Whether it did.
+    pub fn write_down<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        rec: &mut dyn SearchRecorder,
+    ) -> bool {
+        let Some(key) = self.key() else {
+            return false;
+        };
+        let usable = self.tree == Some(map.revision())
+            && self.bounds == map.bounds()
             && !self.weighted
             && self.reverse.is_none()
             && self.rev_open.is_none()
             && self.way.is_none()
             && self.memo.is_none();
         if !usable {
-            return None;
+            return false;
         }
         let cells = self.cells.as_ref();
         self.dirty.for_each_row(|row| {
             let start = row.start;
             for (k, c) in cells.get(row).unwrap_or(&[]).iter().enumerate() {
                 if c.base & DIST_MASK != DIST_MASK {
-                    cell((start + k) as u32, *c);
+                    rec.cell((start + k) as u32, *c);
+                    if self.jumping {
+                        self.write_walks(map, (start + k, c), rec);
+                    }
                 }
             }
         });
@@ -172,15 +199,54 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             for k in 0..len {
                 let i = super::wrap(head + k, cap);
                 if let Some(c) = cells.get(i) {
-                    cell(i as u32, *c);
+                    rec.cell(i as u32, *c);
                 }
             }
         }
-        Some(SearchState {
+        rec.finish(SearchState {
             dirty: self.dirty,
             queue: self.queue,
+            jumps: self.jumps.clone(),
             key,
-        })
+        });
+        true
+    }
+
+    /// Tells `rec` every node the walks from node `v`'s settled states (in
+    /// `c`) could have read: each walk from where it enters a corridor to
+    /// the node it ends on. A walk that went no farther (a full jump heap,
+    /// a node settled already) read less, so this is all it read and
+    /// maybe more, which only makes a taken-over search rarer.
+    fn write_walks<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        (v, c): (usize, &PlanCell),
+        rec: &mut dyn SearchRecorder,
+    ) {
+        let Some(arms) = arms_at(map, v) else {
+            return;
+        };
+        let bounds = self.bounds;
+        for h in Heading::ALL {
+            let hi = usize::from(h.index());
+            if !c.settled(hi) || !arms.has(h) {
+                continue;
+            }
+            let (mut w, mut back) = match neighbour_index(bounds, v, h) {
+                Some(w) => (w, (hi + 2) & 3),
+                None => continue,
+            };
+            for _ in 0..bounds.area() {
+                rec.read(w as u32, node_mark(map, w));
+                let Some(out) = other_arm(map, self.jumps.start(), w, back) else {
+                    break;
+                };
+                match neighbour_index(bounds, w, Heading::from_index(out as u8)) {
+                    Some(n) => (w, back) = (n, (out + 2) & 3),
+                    None => break,
+                }
+            }
+        }
     }
 
     /// The key of the last search, if it has a start.
@@ -193,11 +259,12 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             timing: (self.timing.edge, self.timing.quarter_turn),
             start,
             heading: heading.index(),
+            jumping: self.jumping,
         })
     }
 
     /// Makes this field the search `rec`, over `map` as it is now: the
-    /// caller has checked that every node it reached reads the same there
+    /// caller has checked that every node it read reads the same there
     /// ([`reads_same`]). Afterwards the field is what
     /// [`DistField::compute`] from the same pose would have left had its
     /// callback stopped where the recorded one did; resume it to go on.
@@ -210,7 +277,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let key = rec.state.key;
         let b = map.bounds();
         let (start, heading) = (b.pos(key.start), Heading::from_index(key.heading));
-        if self.search_key(map, timing, start, heading) != Some(key) {
+        if self.search_key(map, timing, (start, heading), key.jumping) != Some(key) {
             return Err(PlanError::OutOfBounds(start));
         }
         self.tree = None;
@@ -224,6 +291,8 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         }
         self.dirty = rec.state.dirty;
         self.queue = rec.state.queue;
+        self.jumping = key.jumping;
+        self.jumps = rec.state.jumps.clone();
         self.tree = Some(map.revision());
         Ok(())
     }

@@ -138,12 +138,14 @@ impl Picks {
         if !start {
             return field.resume(map, |i, d| self.reach(map, &to, i, d));
         }
-        if jumps_pay(map) {
-            return field
-                .compute_jumping(map, timing, pos, heading, |i, d| self.reach(map, &to, i, d));
-        }
-        let (Some(memo), Some(key)) = (memo, field.search_key(map, timing, pos, heading)) else {
-            return field.compute(map, timing, pos, heading, |i, d| self.reach(map, &to, i, d));
+        let jumping = jumps_pay(map);
+        let key = field.search_key(map, timing, (pos, heading), jumping);
+        let (Some(memo), Some(key)) = (memo, key) else {
+            return if jumping {
+                field.compute_jumping(map, timing, pos, heading, |i, d| self.reach(map, &to, i, d))
+            } else {
+                field.compute(map, timing, pos, heading, |i, d| self.reach(map, &to, i, d))
+            };
         };
         let fresh = *self;
         let mut result = Ok(());
@@ -162,7 +164,7 @@ impl Picks {
         }
         *self = fresh;
         memo.record(key, &mut |rec| {
-            result = field.compute(map, timing, pos, heading, |i, d| {
+            let reached = |i: usize, d: Ticks| {
                 let mark = node_mark(map, i);
                 rec.reached(Reached {
                     node: i as u32,
@@ -170,11 +172,14 @@ impl Picks {
                     mark,
                 });
                 self.reach(map, &to, i, d)
-            });
+            };
+            result = if jumping {
+                field.compute_jumping(map, timing, pos, heading, reached)
+            } else {
+                field.compute(map, timing, pos, heading, reached)
+            };
             if result.is_ok() {
-                if let Some(state) = field.write_down(|i, c| rec.cell(i, c)) {
-                    rec.finish(state);
-                }
+                field.write_down(map, rec);
             }
         });
         result
@@ -197,7 +202,7 @@ impl Picks {
         M: AsRef<[Block]> + AsMut<[Block]>,
         F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
     {
-        if !reads_same(map, rec.reached) {
+        if !reads_same(map, rec) {
             return None;
         }
         let (last, before) = rec.reached.split_last()?;

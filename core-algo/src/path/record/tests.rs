@@ -10,53 +10,80 @@ fn field_for(area: usize) -> DistField<Vec<PlanCell>> {
 }
 
 /// A search written down as a memo would keep it.
+#[derive(Default)]
 struct Written {
     reached: Vec<Reached>,
+    read: Vec<(u32, u8)>,
     cells: Vec<(u32, PlanCell)>,
     state: Option<SearchState>,
+}
+
+impl SearchRecorder for Written {
+    fn reached(&mut self, r: Reached) {
+        self.reached.push(r);
+    }
+    fn read(&mut self, node: u32, mark: u8) {
+        self.read.push((node, mark));
+    }
+    fn cell(&mut self, i: u32, c: PlanCell) {
+        self.cells.push((i, c));
+    }
+    fn finish(&mut self, state: SearchState) {
+        self.state = Some(state);
+    }
 }
 
 impl Written {
     fn rec(&self) -> RecordedSearch<'_> {
         RecordedSearch {
             reached: &self.reached,
+            read: &self.read,
             cells: &self.cells,
-            state: self.state.expect("written down"),
+            state: self.state.as_ref().expect("written down"),
         }
     }
 }
 
-/// Searches `map` from `pose`, stopping after `stop` nodes, and writes it
-/// down.
+/// [`DistField::compute`] or, `jumping`, [`DistField::compute_jumping`].
+fn search(
+    f: &mut DistField<Vec<PlanCell>>,
+    map: &KnownMap<Vec<Block>>,
+    t: Timing,
+    ((at, h), jumping): ((Pos, Heading), bool),
+    reached: impl FnMut(usize, Ticks) -> Flow,
+) {
+    if jumping {
+        f.compute_jumping(map, t, at, h, reached).unwrap();
+    } else {
+        f.compute(map, t, at, h, reached).unwrap();
+    }
+}
+
+/// Searches `map` from a pose, `jumping` or plain, stopping after `stop`
+/// nodes, and writes it down.
 fn write(
     f: &mut DistField<Vec<PlanCell>>,
     map: &KnownMap<Vec<Block>>,
     t: Timing,
-    (at, h): (Pos, Heading),
+    from: ((Pos, Heading), bool),
     stop: usize,
 ) -> Written {
-    let mut reached = Vec::new();
-    f.compute(map, t, at, h, |i, dist| {
+    let mut w = Written::default();
+    search(f, map, t, from, |i, dist| {
         let mark = node_mark(map, i);
-        reached.push(Reached {
+        w.reached.push(Reached {
             node: i as u32,
             dist,
             mark,
         });
-        if reached.len() > stop {
+        if w.reached.len() > stop {
             Flow::Stop
         } else {
             Flow::Continue
         }
-    })
-    .unwrap();
-    let mut cells = Vec::new();
-    let state = f.write_down(|i, c| cells.push((i, c)));
-    Written {
-        reached,
-        cells,
-        state,
-    }
+    });
+    assert!(f.write_down(map, &mut w));
+    w
 }
 
 /// Every node's reached time and every pose's settled time.
@@ -88,15 +115,17 @@ proptest! {
     /// node it reached reads the same stands where a fresh search there,
     /// stopped at the same node, stands: the same times for every node and
     /// pose, and resumed, the same nodes at the same times in the same
-    /// order; and the next search in it finds the field clean. The second
-    /// map knows more or fewer nodes than the first; the field that takes
-    /// over held another search before, and small windows (queues of 8
-    /// cells a node) and larger ones (one) both run.
+    /// order; and the next search in it finds the field clean. Plain
+    /// searches and jumping ones, on mazes (mostly corridors) and random
+    /// fields. The second map knows more or fewer nodes than the first;
+    /// the field that takes over held another search before, and small
+    /// windows (queues of 8 cells a node) and larger ones (one) both run.
     #[test]
     fn a_search_taken_over_goes_on_as_a_fresh_one(
         w in 1u16..16, h in 1u16..16, seed in any::<u64>(), maze in any::<bool>(),
         known in 1usize..256, other in 0usize..256, pick in any::<usize>(), heading in 0u8..4,
         stop in 0usize..256, edge in 1u32..200, turn in 1u32..128, before in any::<usize>(),
+        jumping in any::<bool>(),
     ) {
         let b = Bounds::new(Pos::new(0, 0), w, h);
         let area = b.area();
@@ -106,21 +135,22 @@ proptest! {
         let other = known_prefix(b, &arms, other);
         let t = Timing { edge, quarter_turn: turn };
         let start = (b.pos(order[pick % known.min(order.len())]), Heading::from_index(heading));
-        let written = write(&mut field_for(area), &a, t, start, stop);
-        if !reads_same(&other, &written.reached) {
+        let written = write(&mut field_for(area), &a, t, (start, jumping), stop);
+        if !reads_same(&other, written.rec()) {
             return Ok(());
         }
         let mut fresh = field_for(area);
         let mut n = 0;
-        fresh.compute(&other, t, start.0, start.1, |_, _| {
+        search(&mut fresh, &other, t, (start, jumping), |_, _| {
             n += 1;
             if n > stop { Flow::Stop } else { Flow::Continue }
-        }).unwrap();
+        });
         let mut taken = field_for(area);
         let was = b.pos(before % area);
-        taken.compute(&a, t, was, Heading::North, |_, _| Flow::Continue).unwrap();
+        search(&mut taken, &a, t, ((was, Heading::North), !jumping), |_, _| Flow::Continue);
         taken.take_over(&other, t, written.rec()).unwrap();
-        prop_assert!(taken.is_search_from(&other, t, start.0, start.1));
+        prop_assert!(taken.is_distance_search_from(&other, t, start.0, start.1));
+        prop_assert_eq!(taken.is_search_from(&other, t, start.0, start.1), !jumping);
         prop_assert_eq!(times(&taken, area), times(&fresh, area));
         let (r1, r2) = (rest(&mut taken, &other), rest(&mut fresh, &other));
         prop_assert_eq!(r1, r2);
@@ -164,15 +194,15 @@ fn a_search_reads_the_same_until_a_node_it_reached_changes() {
         &mut field_for(b.area()),
         &map,
         t,
-        (Pos::new(0, 0), Heading::East),
+        ((Pos::new(0, 0), Heading::East), false),
         100,
     );
     assert_eq!(written.reached.len(), 7);
-    assert!(written.state.is_some_and(|s| s.ran_out()));
-    assert!(reads_same(&map, &written.reached));
+    assert!(written.state.as_ref().is_some_and(|s| s.ran_out()));
+    assert!(reads_same(&map, written.rec()));
     map.visit(Pos::new(6, 0), arms[6], RobotId(0)).unwrap();
     assert!(
-        !reads_same(&map, &written.reached),
+        !reads_same(&map, written.rec()),
         "node 6 is no frontier node now"
     );
     // Stopped at node 3, the search never reached node 6.
@@ -187,10 +217,10 @@ fn a_search_reads_the_same_until_a_node_it_reached_changes() {
         &mut field_for(b.area()),
         &before,
         t,
-        (Pos::new(0, 0), Heading::East),
+        ((Pos::new(0, 0), Heading::East), false),
         3,
     );
-    assert!(reads_same(&map, &short.reached));
+    assert!(reads_same(&map, short.rec()));
     let mut f = field_for(b.area());
     f.take_over(&map, t, short.rec()).unwrap();
     let went_on = rest(&mut f, &map);
@@ -202,39 +232,76 @@ fn a_search_reads_the_same_until_a_node_it_reached_changes() {
     );
 }
 
-/// A field that holds anything but a plain forward search writes nothing
-/// down.
+/// A jumping search reaches only the corridor's end, a frontier node, but
+/// it read every corridor node on the way: the record holds them, so the
+/// frontier node visited shows, and so does a map that does not know the
+/// corridor yet.
 #[test]
-fn only_a_plain_forward_search_is_written_down() {
-    let b = Bounds::new(Pos::new(0, 0), 6, 6);
-    let arms = random_arms(b, 7);
-    let map = known_prefix(b, &arms, 20);
+fn a_jumping_search_reads_the_corridors_it_passes() {
+    let b = Bounds::new(Pos::new(0, 0), 12, 1);
+    let line = |x: i16| {
+        let mut bits = 0;
+        if x > 0 {
+            bits |= 1 << Heading::West.index();
+        }
+        if x < 11 {
+            bits |= 1 << Heading::East.index();
+        }
+        crate::geometry::Arms::from_bits(bits)
+    };
     let t = Timing {
         edge: 10,
         quarter_turn: 5,
     };
+    let known = |n: i16| {
+        let mut map =
+            KnownMap::new(vec![Block::EMPTY; crate::map::blocks_for(b.area())], b).unwrap();
+        for x in 0..n {
+            map.visit(Pos::new(x, 0), line(x), RobotId(0)).unwrap();
+        }
+        map
+    };
+    let map = known(6);
+    let start = ((Pos::new(0, 0), Heading::East), true);
+    let written = write(&mut field_for(b.area()), &map, t, start, 100);
+    let reached: Vec<u32> = written.reached.iter().map(|r| r.node).collect();
+    assert_eq!(reached, vec![0, 6], "the start and the frontier node");
+    let read: Vec<u32> = written.read.iter().map(|r| r.0).collect();
+    assert_eq!(read, vec![1, 2, 3, 4, 5, 6]);
+    assert!(reads_same(&map, written.rec()));
+    assert!(!reads_same(&known(7), written.rec()), "node 6 visited");
+    assert!(
+        !reads_same(&known(4), written.rec()),
+        "nodes 4 and 5 not known"
+    );
+}
+
+/// A field that holds anything but a forward search from a start, on the
+/// map it is asked about, writes nothing down.
+#[test]
+fn only_a_forward_search_on_its_own_map_is_written_down() {
+    let b = Bounds::new(Pos::new(0, 0), 6, 6);
+    let arms = random_arms(b, 7);
+    let map = known_prefix(b, &arms, 20);
+    let grown = known_prefix(b, &arms, 21);
+    let t = Timing {
+        edge: 10,
+        quarter_turn: 5,
+    };
+    let from = (Pos::new(0, 0), Heading::North);
     let mut f = field_for(b.area());
-    f.compute_jumping(&map, t, Pos::new(0, 0), Heading::North, |_, _| {
-        Flow::Continue
-    })
-    .unwrap();
-    assert!(f.write_down(|_, _| {}).is_none());
+    let mut w = Written::default();
     let goal = map.frontier().next().unwrap();
     f.compute_reverse(&map, t, goal, |_, _, _| Flow::Continue)
         .unwrap();
-    assert!(f.write_down(|_, _| {}).is_none());
-    f.compute_avoiding(
-        &map,
-        t,
-        (Pos::new(0, 0), Heading::North),
-        |_| false,
-        |_, _| Flow::Continue,
-    )
-    .unwrap();
-    assert!(f.write_down(|_, _| {}).is_none());
-    f.compute(&map, t, Pos::new(0, 0), Heading::North, |_, _| {
-        Flow::Continue
-    })
-    .unwrap();
-    assert!(f.write_down(|_, _| {}).is_some());
+    assert!(!f.write_down(&map, &mut w));
+    f.compute_avoiding(&map, t, from, |_| false, |_, _| Flow::Continue)
+        .unwrap();
+    assert!(!f.write_down(&map, &mut w));
+    assert!(w.state.is_none() && w.cells.is_empty());
+    for jumping in [false, true] {
+        search(&mut f, &map, t, (from, jumping), |_, _| Flow::Continue);
+        assert!(!f.write_down(&grown, &mut w), "another map");
+        assert!(f.write_down(&map, &mut w));
+    }
 }
