@@ -1,5 +1,5 @@
-//! A plain forward search written down, so that another field can take it
-//! over on another map where it reads the same: see [`SearchMemo`].
+//! A forward search written down, so that another field can take it over
+//! on another map where it reads the same: see [`SearchMemo`].
 //!
 //! ## Why
 //!
@@ -99,7 +99,7 @@ pub trait SearchRecorder {
     fn finish(&mut self, state: SearchState);
 }
 
-/// Plain forward searches kept to be taken over (see the module docs). A
+/// Forward searches kept to be taken over (see the module docs). A
 /// robot keeps none: its own searches rarely repeat (on rooms 128² with
 /// 16 robots, 4 % of a robot's searches of a team mate's picks came from
 /// the pose its last decision had searched, on a map that read the same).
@@ -265,9 +265,12 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
 
     /// Makes this field the search `rec`, over `map` as it is now: the
     /// caller has checked that every node it read reads the same there
-    /// ([`reads_same`]). Afterwards the field is what
-    /// [`DistField::compute`] from the same pose would have left had its
-    /// callback stopped where the recorded one did; resume it to go on.
+    /// ([`reads_same`]). Afterwards the field is what a search of the
+    /// record's kind ([`DistField::compute`] or
+    /// [`DistField::compute_jumping`]) from the same pose would have left
+    /// had its callback stopped where the recorded one did; resume it to
+    /// go on. A record of another window, scratch size or timing is
+    /// refused with [`PlanError::OutOfBounds`] of its start.
     pub fn take_over<M: AsRef<[Block]> + AsMut<[Block]>>(
         &mut self,
         map: &KnownMap<M>,
