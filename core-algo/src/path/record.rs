@@ -120,13 +120,15 @@ pub fn node_mark<M: AsRef<[Block]> + AsMut<[Block]>>(map: &KnownMap<M>, i: usize
     arms | if map.is_frontier_at(i) { 0x20 } else { 0 }
 }
 
-/// Whether every node `rec` read reads in `map` as it did.
+/// Whether every node `rec` read reads in `map` as it did. Last reached
+/// first: a search reaches the frontier, where maps change, last.
 pub fn reads_same<M: AsRef<[Block]> + AsMut<[Block]>>(
     map: &KnownMap<M>,
     rec: RecordedSearch<'_>,
 ) -> bool {
     rec.reached
         .iter()
+        .rev()
         .all(|r| node_mark(map, r.node as usize) == r.mark)
         && rec
             .read
