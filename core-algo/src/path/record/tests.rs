@@ -163,6 +163,41 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+
+    /// A record whose cells were spoilt (any contents, any index), taken
+    /// over unchecked on another map and resumed to the end, answers
+    /// wrongly perhaps, but nothing panics or loops: what a memo hands back
+    /// is input too.
+    #[test]
+    fn a_spoilt_record_taken_over_panics_nowhere(
+        w in 1u16..12, h in 1u16..12, seed in any::<u64>(), known in 1usize..144,
+        other in 0usize..144, stop in 0usize..144, jumping in any::<bool>(),
+        junk in proptest::collection::vec((any::<u32>(), any::<u32>(), any::<[u8; 4]>(), any::<u32>(), any::<u32>()), 0..64),
+    ) {
+        let b = Bounds::new(Pos::new(0, 0), w, h);
+        let area = b.area();
+        let arms = random_arms(b, seed);
+        let a = known_prefix(b, &arms, known);
+        let other = known_prefix(b, &arms, other);
+        let t = Timing { edge: 10, quarter_turn: 5 };
+        let start = ((b.pos(0), Heading::East), jumping);
+        let mut written = write(&mut field_for(area), &a, t, start, stop);
+        for (k, &(i, base, off, ring_a, ring_b)) in junk.iter().enumerate() {
+            let c = PlanCell { base, off, ring_a, ring_b };
+            match written.cells.get_mut(k) {
+                Some(slot) if k % 2 == 0 => *slot = (i % (2 * area as u32 + 1), c),
+                _ => written.cells.push((i, c)),
+            }
+        }
+        let mut f = field_for(area);
+        f.take_over(&other, t, written.rec()).unwrap();
+        let _ = f.resume(&other, |_, _| Flow::Continue);
+        let _ = f.dist_at(0);
+    }
+}
+
 /// The nodes a search reached are what tells whether it still holds: a
 /// node visited beyond where it stopped changes nothing, one it reached as
 /// a frontier node does.
