@@ -18,8 +18,11 @@ use std::sync::{Arc, Mutex};
 /// while it drives an edge, on maps that grow elsewhere.
 const PER_KEY: usize = 4;
 
-/// Bytes of records kept at most; the oldest go first.
-const MAX_BYTES: usize = 256 << 20;
+/// Bytes of records kept at most; the oldest go first. A team mate's pose
+/// is searched again within a few decisions, so a few thousand records
+/// (rooms 256², 16 robots: about 30 KiB each) keep nearly every search
+/// that is taken over.
+const MAX_BYTES: usize = 64 << 20;
 
 /// Nodes a record may hold: a search that reaches more (a whole 1024²
 /// window) is not kept.
@@ -50,11 +53,12 @@ struct Record {
 }
 
 impl Record {
+    /// What it holds on the heap and inline, by capacity.
     fn bytes(&self) -> usize {
         size_of::<Record>()
-            + self.reached.len() * size_of::<Reached>()
-            + self.read.len() * size_of::<(u32, u8)>()
-            + self.cells.len() * size_of::<(u32, PlanCell)>()
+            + self.reached.capacity() * size_of::<Reached>()
+            + self.read.capacity() * size_of::<(u32, u8)>()
+            + self.cells.capacity() * size_of::<(u32, PlanCell)>()
     }
 }
 
