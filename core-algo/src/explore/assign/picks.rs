@@ -101,8 +101,9 @@ impl Picks {
     /// frontier nodes are known: from scratch the first time, resumed after
     /// [`Picks::more`]. With `spread`, nodes that near a `taken` one are
     /// skipped (then picks must not grow: `taken` changes). With a `memo`,
-    /// a plain search from scratch takes over a recorded one where it can
-    /// (see [`Picks::take_over`]) and is recorded where it cannot.
+    /// a search from scratch takes over a recorded one where it can (see
+    /// [`Picks::take_over`]) and is written down where it cannot; later
+    /// rounds resume the field either way.
     pub(super) fn grow<M, F>(
         &mut self,
         ctx: &Context<'_, M>,
