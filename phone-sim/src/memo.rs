@@ -1,8 +1,8 @@
-//! The simulator's memo of plain forward searches (see
+//! The simulator's memo of forward searches (see
 //! [`core_algo::path::SearchMemo`]): the team mates' searches that every
 //! robot of a simulated team repeats, kept for the decisions that follow.
 //!
-//! A search is taken over only where every node it reached reads the same
+//! A search is taken over only where every node it read reads the same
 //! in the deciding robot's map, so what the memo holds, or which search
 //! recorded it (another robot's, another run's), never changes a
 //! decision: it saves the search, nothing else.
@@ -39,7 +39,9 @@ pub struct HostMemo {
 #[derive(Debug)]
 struct Store {
     by_key: BTreeMap<SearchKey, Vec<Arc<Record>>>,
-    /// Every record kept, oldest first, for eviction.
+    /// Every record kept, oldest first, for eviction. One pushed out of
+    /// its pose's list by newer ones stays here, and counted in `bytes`,
+    /// until it is evicted.
     order: VecDeque<(SearchKey, Arc<Record>)>,
     bytes: usize,
 }
@@ -190,5 +192,70 @@ impl SearchRecorder for Recorder {
 
     fn finish(&mut self, state: SearchState) {
         self.state = Some(state);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use core_algo::geometry::{Arms, Heading, Pos};
+    use core_algo::map::{Block, Bounds, KnownMap, blocks_for};
+    use core_algo::path::{DistField, Flow, min_cells};
+    use core_algo::team::RobotId;
+    use core_algo::timing::Timing;
+
+    /// Records `n` searches from one pose, each stopped one node later
+    /// than the one before; what `recall` hands back, as node counts.
+    fn kept(n: usize) -> (HostMemo, Vec<usize>) {
+        let b = Bounds::new(Pos::new(0, 0), 12, 1);
+        let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).unwrap();
+        for x in 0..12 {
+            let bits = u8::from(x > 0) << Heading::West.index()
+                | u8::from(x < 11) << Heading::East.index();
+            map.visit(Pos::new(x, 0), Arms::from_bits(bits), RobotId(0))
+                .unwrap();
+        }
+        let t = Timing {
+            edge: 10,
+            quarter_turn: 5,
+        };
+        let mut f = DistField::new(vec![PlanCell::EMPTY; min_cells(b.area())]);
+        let pose = (Pos::new(0, 0), Heading::East);
+        let key = f.search_key(&map, t, pose, false).unwrap();
+        let memo = HostMemo::new();
+        for stop in 0..n {
+            memo.record(key, &mut |rec| {
+                let mut seen = 0;
+                f.compute(&map, t, pose.0, pose.1, |i, dist| {
+                    rec.reached(Reached {
+                        node: i as u32,
+                        dist,
+                        mark: 0,
+                    });
+                    seen += 1;
+                    if seen > stop {
+                        Flow::Stop
+                    } else {
+                        Flow::Continue
+                    }
+                })
+                .unwrap();
+                assert!(f.write_down(&map, rec));
+            });
+        }
+        let mut lens = Vec::new();
+        memo.recall(key, &mut |r| {
+            lens.push(r.reached.len());
+            false
+        });
+        (memo, lens)
+    }
+
+    /// A pose keeps its newest records, handed back newest first.
+    #[test]
+    fn a_pose_keeps_its_newest_records_newest_first() {
+        let (memo, lens) = kept(6);
+        assert_eq!(lens, vec![6, 5, 4, 3]);
+        assert_eq!(memo.counts(), (0, 6));
     }
 }
