@@ -112,7 +112,7 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(1024))]
 
     /// A search recorded on one map and taken over on another where every
-    /// node it reached reads the same stands where a fresh search there,
+    /// node it read reads the same stands where a fresh search there,
     /// stopped at the same node, stands: the same times for every node and
     /// pose, and resumed, the same nodes at the same times in the same
     /// order; and the next search in it finds the field clean. Plain
