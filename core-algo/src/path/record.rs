@@ -28,7 +28,7 @@ use super::corridor::{Jumps, other_arm};
 use super::scratch::{DIST_MASK, Dirty, Queues};
 use super::{DistField, PlanCell, PlanError, arms_at, neighbour_index};
 use crate::geometry::Heading;
-use crate::map::{Block, KnownMap};
+use crate::map::{Block, Bounds, KnownMap};
 use crate::timing::{Ticks, Timing};
 
 /// Which search a record is of: the window, the scratch's size (the queues
@@ -42,6 +42,26 @@ pub struct SearchKey {
     start: usize,
     heading: u8,
     jumping: bool,
+}
+
+impl SearchKey {
+    /// The key of a search in a window of a scratch that many cells long,
+    /// with a timing as searches run it (`searchable`), from a start
+    /// (storage index and heading).
+    fn new(
+        (b, cells, t): (Bounds, usize, Timing),
+        (start, heading): (usize, Heading),
+        jumping: bool,
+    ) -> SearchKey {
+        SearchKey {
+            window: (b.origin.x, b.origin.y, b.width, b.height),
+            cells,
+            timing: (t.edge, t.quarter_turn),
+            start,
+            heading: heading.index(),
+            jumping,
+        }
+    }
 }
 
 /// One node a recorded search reached, in the order it reached them.
@@ -148,15 +168,13 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         jumping: bool,
     ) -> Option<SearchKey> {
         let b = map.bounds();
+        let cells = self.cells.as_ref().len();
         let t = super::searchable(timing);
-        Some(SearchKey {
-            window: (b.origin.x, b.origin.y, b.width, b.height),
-            cells: self.cells.as_ref().len(),
-            timing: (t.edge, t.quarter_turn),
-            start: b.index(start)?,
-            heading: heading.index(),
+        Some(SearchKey::new(
+            (b, cells, t),
+            (b.index(start)?, heading),
             jumping,
-        })
+        ))
     }
 
     /// Writes the last search down into `rec`, if it is a forward search
@@ -253,16 +271,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
 
     /// The key of the last search, if it has a start.
     fn key(&self) -> Option<SearchKey> {
-        let (start, heading) = self.start?;
-        let b = self.bounds;
-        Some(SearchKey {
-            window: (b.origin.x, b.origin.y, b.width, b.height),
-            cells: self.cells.as_ref().len(),
-            timing: (self.timing.edge, self.timing.quarter_turn),
-            start,
-            heading: heading.index(),
-            jumping: self.jumping,
-        })
+        let cells = self.cells.as_ref().len();
+        let window = (self.bounds, cells, self.timing);
+        Some(SearchKey::new(window, self.start?, self.jumping))
     }
 
     /// Makes this field the search `rec`, over `map` as it is now: the
