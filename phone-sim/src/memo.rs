@@ -28,11 +28,23 @@ const MAX_BYTES: usize = 64 << 20;
 /// window) is not kept.
 const MAX_REACHED: usize = 1 << 18;
 
+/// What a [`HostMemo`] did so far (see [`HostMemo::counts`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MemoCounts {
+    /// Searches taken over, whole or in part.
+    pub taken_over: u64,
+    /// Of those, the ones taken over in part.
+    pub in_part: u64,
+    /// Searches written down.
+    pub recorded: u64,
+}
+
 /// See the module docs.
 #[derive(Debug)]
 pub struct HostMemo {
     store: Mutex<Store>,
     taken_over: AtomicU64,
+    in_part: AtomicU64,
     recorded: AtomicU64,
 }
 
@@ -51,6 +63,7 @@ struct Record {
     reached: Vec<Reached>,
     read: Vec<(u32, u8)>,
     cells: Vec<(u32, PlanCell)>,
+    queued: [Vec<u32>; 2],
     state: SearchState,
 }
 
@@ -61,6 +74,7 @@ impl Record {
             + self.reached.capacity() * size_of::<Reached>()
             + self.read.capacity() * size_of::<(u32, u8)>()
             + self.cells.capacity() * size_of::<(u32, PlanCell)>()
+            + self.queued.iter().map(Vec::capacity).sum::<usize>() * size_of::<u32>()
     }
 }
 
@@ -74,16 +88,20 @@ impl HostMemo {
                 bytes: 0,
             }),
             taken_over: AtomicU64::new(0),
+            in_part: AtomicU64::new(0),
             recorded: AtomicU64::new(0),
         }
     }
 
-    /// Searches taken over, and searches recorded, so far.
-    pub fn counts(&self) -> (u64, u64) {
-        (
-            self.taken_over.load(Ordering::Relaxed),
-            self.recorded.load(Ordering::Relaxed),
-        )
+    /// Searches taken over (whole or in part), of those taken over in
+    /// part, and searches recorded (fresh ones and those that went on
+    /// from a part taken over), so far.
+    pub fn counts(&self) -> MemoCounts {
+        MemoCounts {
+            taken_over: self.taken_over.load(Ordering::Relaxed),
+            in_part: self.in_part.load(Ordering::Relaxed),
+            recorded: self.recorded.load(Ordering::Relaxed),
+        }
     }
 
     fn insert(&self, key: SearchKey, record: Record) {
@@ -131,6 +149,7 @@ impl SearchMemo for HostMemo {
                 reached: &r.reached,
                 read: &r.read,
                 cells: &r.cells,
+                queued: [&r.queued[0], &r.queued[1]],
                 state: &r.state,
             };
             if take(rec) {
@@ -139,6 +158,10 @@ impl SearchMemo for HostMemo {
             }
         }
         false
+    }
+
+    fn taken_over_in_part(&self) {
+        self.in_part.fetch_add(1, Ordering::Relaxed);
     }
 
     fn record(&self, key: SearchKey, search: &mut dyn FnMut(&mut dyn SearchRecorder)) {
@@ -150,6 +173,7 @@ impl SearchMemo for HostMemo {
                 reached: rec.reached,
                 read: rec.read,
                 cells: rec.cells,
+                queued: rec.queued,
                 state,
             };
             self.insert(key, record);
@@ -163,6 +187,7 @@ struct Recorder {
     reached: Vec<Reached>,
     read: Vec<(u32, u8)>,
     cells: Vec<(u32, PlanCell)>,
+    queued: [Vec<u32>; 2],
     state: Option<SearchState>,
     too_long: bool,
 }
@@ -187,6 +212,12 @@ impl SearchRecorder for Recorder {
     fn cell(&mut self, i: u32, c: PlanCell) {
         if !self.too_long {
             self.cells.push((i, c));
+        }
+    }
+
+    fn queued(&mut self, ring: usize, entry: u32) {
+        if let (false, Some(q)) = (self.too_long, self.queued.get_mut(ring)) {
+            q.push(entry);
         }
     }
 
@@ -256,6 +287,11 @@ mod tests {
     fn a_pose_keeps_its_newest_records_newest_first() {
         let (memo, lens) = kept(6);
         assert_eq!(lens, vec![6, 5, 4, 3]);
-        assert_eq!(memo.counts(), (0, 6));
+        let counts = MemoCounts {
+            taken_over: 0,
+            in_part: 0,
+            recorded: 6,
+        };
+        assert_eq!(memo.counts(), counts);
     }
 }

@@ -25,7 +25,7 @@
 //! queues. Resumed from there, it goes on as the fresh search would.
 
 use super::corridor::{Jumps, other_arm};
-use super::scratch::{DIST_MASK, Dirty, Queues};
+use super::scratch::{DIST_MASK, Dirty, NO_OFF, Queues, SETTLED_SHIFT};
 use super::{DistField, PlanCell, PlanError, arms_at, neighbour_index};
 use crate::geometry::Heading;
 use crate::map::{Block, Bounds, KnownMap};
@@ -83,6 +83,9 @@ pub struct SearchState {
     queue: Queues,
     jumps: Jumps,
     key: SearchKey,
+    /// Whether the record holds its queues' last entries
+    /// ([`RecordedSearch::queued`]), so that it can be taken over in part.
+    history: bool,
 }
 
 impl SearchState {
@@ -103,6 +106,10 @@ pub struct RecordedSearch<'a> {
     pub read: &'a [(u32, u8)],
     /// Every cell it wrote: (storage index, contents).
     pub cells: &'a [(u32, PlanCell)],
+    /// The last entries its edge queue and its turn queue received, in
+    /// order, up to the queue's size (a plain search's; a jumping one
+    /// keeps none): its queues at any time late enough are a run of them.
+    pub queued: [&'a [u32]; 2],
     /// Its queues and box.
     pub state: &'a SearchState,
 }
@@ -115,6 +122,9 @@ pub trait SearchRecorder {
     fn read(&mut self, node: u32, mark: u8);
     /// A cell the search wrote.
     fn cell(&mut self, i: u32, c: PlanCell);
+    /// The next entry its edge queue (`ring` 0) or turn queue (1)
+    /// received (see [`RecordedSearch::queued`]).
+    fn queued(&mut self, ring: usize, entry: u32);
     /// The search is written down whole: without this call it is dropped.
     fn finish(&mut self, state: SearchState);
 }
@@ -131,6 +141,9 @@ pub trait SearchMemo: Sync {
     /// Writes a search down: `search` runs it, telling the recorder it is
     /// handed what it reaches, its cells and its state.
     fn record(&self, key: SearchKey, search: &mut dyn FnMut(&mut dyn SearchRecorder));
+    /// The search `recall` just handed over was taken over in part
+    /// ([`DistField::take_over_before`]), for the memo's counts.
+    fn taken_over_in_part(&self) {}
 }
 
 /// What a forward search reads of node `i`: its known arms (bits 0..4),
@@ -154,6 +167,80 @@ pub fn reads_same<M: AsRef<[Block]> + AsMut<[Block]>>(
             .read
             .iter()
             .all(|&(i, m)| node_mark(map, i as usize) == m)
+}
+
+/// Where a record stops holding on another map (see [`split_at`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Split {
+    /// The time the record reached its first node that reads otherwise.
+    pub dist: Ticks,
+    /// How many nodes it reached before that time: a search on the other
+    /// map reaches these alike, in the same order.
+    pub before: usize,
+}
+
+/// Where the plain search `rec` can be taken over in part on `map`
+/// ([`DistField::take_over_before`]): up to the time it reached the first
+/// node that reads otherwise there. `None` where every node reads the same
+/// (take it over whole), where it holds no queue history (a jumping
+/// search, or queues that wrapped), or where its start reads otherwise.
+///
+/// Why it holds: a plain search reads a node only when it drives on from
+/// it, once it has reached it, so all it did before that time it did
+/// alike on both maps.
+pub fn split_at<M: AsRef<[Block]> + AsMut<[Block]>>(
+    map: &KnownMap<M>,
+    rec: RecordedSearch<'_>,
+) -> Option<Split> {
+    if !rec.state.history {
+        return None;
+    }
+    let dist = rec
+        .reached
+        .iter()
+        .find(|r| node_mark(map, r.node as usize) != r.mark)?
+        .dist;
+    let before = rec.reached.partition_point(|r| r.dist < dist);
+    (before > 0).then_some(Split { dist, before })
+}
+
+impl PlanCell {
+    /// This cell of a finished search as it stood before the search
+    /// settled anything at `dist` or later: its later states unsettled,
+    /// each with the offset its settled neighbours' quarter turns
+    /// (`turn` ticks) gave it, as `search::expand` writes them.
+    fn before(self, dist: Ticks, turn: Ticks) -> PlanCell {
+        let base = self.base & DIST_MASK;
+        let mut out = PlanCell {
+            base: DIST_MASK,
+            off: [NO_OFF; 4],
+            ..self
+        };
+        if base == DIST_MASK || base >= dist {
+            return out;
+        }
+        out.base = base;
+        let kept = |h: usize| {
+            self.settled(h) && base + u32::from(self.off.get(h).copied().unwrap_or(NO_OFF)) < dist
+        };
+        for h in 0..4 {
+            if kept(h) {
+                out.off[h] = self.off[h];
+                out.base |= 1 << (SETTLED_SHIFT + h as u32);
+            } else {
+                let turned = [(h + 1) & 3, (h + 3) & 3]
+                    .into_iter()
+                    .filter(|&n| kept(n))
+                    .map(|n| u32::from(self.off[n]) + turn)
+                    .min()
+                    .unwrap_or(u32::MAX);
+                if turned < u32::from(NO_OFF) {
+                    out.off[h] = turned as u8;
+                }
+            }
+        }
+        out
+    }
 }
 
 impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
@@ -215,11 +302,29 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         });
         let cap = cells.len();
         let q = self.queue;
-        for (head, len) in [(q.a_head, q.a_len), (q.b_head, q.b_len)] {
-            for k in 0..len {
-                let i = super::wrap(head + k, cap);
-                if let Some(c) = cells.get(i) {
-                    rec.cell(i as u32, *c);
+        // A plain search's queues' slots still hold their last entries:
+        // written down, they let another map take the search over in part
+        // (see `take_over_before`). A jumping one writes down only the
+        // slots still waiting, as cells.
+        let history = !self.jumping;
+        if history {
+            for (ring, (from, pushed)) in [(q.a_from, q.a_pushed), (q.b_from, q.b_pushed)]
+                .into_iter()
+                .enumerate()
+            {
+                for n in from.max(pushed.saturating_sub(cap))..pushed {
+                    if let Some(c) = cells.get(n % cap) {
+                        rec.queued(ring, if ring == 0 { c.ring_a } else { c.ring_b });
+                    }
+                }
+            }
+        } else {
+            for (head, len) in [(q.a_head, q.a_len), (q.b_head, q.b_len)] {
+                for k in 0..len {
+                    let i = super::wrap(head + k, cap);
+                    if let Some(c) = cells.get(i) {
+                        rec.cell(i as u32, *c);
+                    }
                 }
             }
         }
@@ -228,6 +333,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             queue: self.queue,
             jumps: self.jumps.clone(),
             key,
+            history,
         });
         true
     }
@@ -305,12 +411,167 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                 *slot = c;
             }
         }
+        let mut q = rec.state.queue;
+        if rec.state.history {
+            // The entries still waiting, each to its slot.
+            let cap = cells.len();
+            let [a, b] = rec.queued;
+            let live = |len: usize, pushed: usize, kept: usize| {
+                let first = pushed.saturating_sub(kept);
+                (pushed.saturating_sub(len)..pushed).map(move |n| (n % cap, n - first))
+            };
+            for (slot, k) in live(q.a_len, q.a_pushed, a.len()) {
+                if let (Some(c), Some(&e)) = (cells.get_mut(slot), a.get(k)) {
+                    c.ring_a = e;
+                }
+            }
+            for (slot, k) in live(q.b_len, q.b_pushed, b.len()) {
+                if let (Some(c), Some(&e)) = (cells.get_mut(slot), b.get(k)) {
+                    c.ring_b = e;
+                }
+            }
+            q.a_from = q.a_pushed.saturating_sub(q.a_len);
+            q.b_from = q.b_pushed.saturating_sub(q.b_len);
+        }
         self.dirty = rec.state.dirty;
-        self.queue = rec.state.queue;
+        self.queue = q;
         self.jumping = key.jumping;
         self.jumps = rec.state.jumps.clone();
         self.tree = Some(map.revision());
         Ok(())
+    }
+}
+
+impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
+    /// Makes this field the plain search `rec` as it stood before it
+    /// settled anything at `dist` or later, over `map` as it is now: the
+    /// caller has checked with [`split_at`] that every node it reached
+    /// before `dist` reads the same there. Afterwards the field is where a
+    /// search of its own from the same pose stands at that time, its
+    /// callback told of the record's first [`Split::before`] nodes; resume
+    /// it to go on. False, and the field cleared, where the record does
+    /// not hold its queues as they were then (a jumping search, or one
+    /// whose queues wrapped since). A record of another window, scratch
+    /// size or timing is refused with [`PlanError::OutOfBounds`] of its
+    /// start.
+    ///
+    /// The queues then are a run of the entries they received: those
+    /// queued by states settled before `dist` (states settle in time
+    /// order), less those that arrive before `dist`, which were taken off
+    /// by then.
+    pub fn take_over_before<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        rec: RecordedSearch<'_>,
+        dist: Ticks,
+    ) -> Result<bool, PlanError> {
+        let key = rec.state.key;
+        let b = map.bounds();
+        let (start, heading) = (b.pos(key.start), Heading::from_index(key.heading));
+        if self.search_key(map, timing, (start, heading), false) != Some(key) {
+            return Err(PlanError::OutOfBounds(start));
+        }
+        self.tree = None;
+        self.prepare(map, timing, start, heading)?;
+        if !rec.state.history {
+            return Ok(false);
+        }
+        let t = self.timing;
+        let mut dirty = self.dirty;
+        let cells = self.cells.as_mut();
+        for &(i, c) in rec.cells {
+            if let Some(slot) = cells.get_mut(i as usize) {
+                *slot = c.before(dist, t.quarter_turn);
+            }
+        }
+        for &(i, _) in rec.cells {
+            let i = i as usize;
+            // A node the search did not drive on from turns nowhere: its
+            // headings come only by edges, perhaps long after the first,
+            // where the offset saturates (see `settle_in`). Whether such a
+            // heading was settled before `dist` follows from the state it
+            // came from.
+            if arms_at(map, i).is_none() {
+                for h in Heading::ALL {
+                    let hi = usize::from(h.index());
+                    let from = neighbour_index(b, i, h.opposite())
+                        .and_then(|u| cells.get(u))
+                        .and_then(|c| c.pose_dist(hi));
+                    let Some(c) = cells.get_mut(i) else {
+                        break;
+                    };
+                    let saturated = c.settled(hi) && c.off[hi] == NO_OFF - 1;
+                    if saturated && from.is_none_or(|k| k.saturating_add(t.edge) >= dist) {
+                        c.base &= !(1 << (SETTLED_SHIFT + hi as u32));
+                    }
+                    if !c.settled(hi) {
+                        c.off[hi] = NO_OFF;
+                    }
+                }
+            }
+            if let Some(last) = cells
+                .get(i)
+                .and_then(|c| (0..4).filter_map(|h| c.pose_dist(h)).max())
+            {
+                dirty.add(i, last);
+            }
+        }
+        let cap = cells.len();
+        let settled = |cells: &[PlanCell], state: u32| {
+            let s = state as usize;
+            cells.get(s / 4).and_then(|c| c.pose_dist(s % 4))
+        };
+        let q = rec.state.queue;
+        let mut ends = [(0, 0); 2];
+        // The edge ring holds source states, the turn ring source states
+        // with the turn's side in the low bit.
+        let rings = [(q.a_pushed, 1, t.edge), (q.b_pushed, 2, t.quarter_turn)];
+        for (ring, (pushed, per, step)) in rings.into_iter().enumerate() {
+            let all = rec.queued.get(ring).copied().unwrap_or(&[]);
+            let kept = all.get(..cap).unwrap_or(all);
+            let first = pushed.saturating_sub(kept.len());
+            let source = |e: &u32| *e / per;
+            let gone =
+                |e: &u32| settled(cells, source(e)).is_some_and(|k| k.saturating_add(step) < dist);
+            // The entries before the kept ones must have been taken off
+            // by then: the first kept one was.
+            if first > 0 && !kept.first().is_some_and(gone) {
+                // Clear what was written: the next search clears the box.
+                self.dirty = dirty;
+                self.start = None;
+                return Ok(false);
+            }
+            let queued = kept.partition_point(|e| settled(cells, source(e)).is_some());
+            let popped = kept.get(..queued).unwrap_or(&[]).partition_point(gone);
+            for n in popped..queued {
+                if let (Some(c), Some(&e)) = (cells.get_mut((first + n) % cap), kept.get(n)) {
+                    if ring == 0 {
+                        c.ring_a = e;
+                    } else {
+                        c.ring_b = e;
+                    }
+                }
+            }
+            if let Some(end) = ends.get_mut(ring) {
+                *end = (first + popped, first + queued);
+            }
+        }
+        let [(a_popped, a_pushed), (b_popped, b_pushed)] = ends;
+        self.queue = Queues {
+            a_head: a_popped % cap,
+            a_len: a_pushed - a_popped,
+            b_head: b_popped % cap,
+            b_len: b_pushed - b_popped,
+            a_pushed,
+            b_pushed,
+            a_from: a_popped,
+            b_from: b_popped,
+            pending: None,
+        };
+        self.dirty = dirty;
+        self.tree = Some(map.revision());
+        Ok(true)
     }
 }
 

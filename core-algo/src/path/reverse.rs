@@ -89,6 +89,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                 if let Some(c) = self.cells.as_mut().get_mut(wrap(q.a_head + q.a_len, cap)) {
                     c.ring_a = (g * 4 + h) as u32;
                     q.a_len += 1;
+                    q.a_pushed += 1;
                 }
             }
             stop = stop || reached(g, heading, 0) == Flow::Stop;

@@ -169,6 +169,15 @@ pub(super) struct Queues {
     pub(super) a_len: usize,
     pub(super) b_head: usize,
     pub(super) b_len: usize,
+    /// Entries each ring received since the search began: entry `n`
+    /// went to slot `n % len` (see `record`)...
+    pub(super) a_pushed: usize,
+    pub(super) b_pushed: usize,
+    /// ...and the first entry the slots were given (0, or where a
+    /// search taken over in part began to hold them): the slots hold the
+    /// entries from here or from `pushed - len`, whichever is later.
+    pub(super) a_from: usize,
+    pub(super) b_from: usize,
     pub(super) pending: Option<(usize, usize, Ticks)>,
 }
 

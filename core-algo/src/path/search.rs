@@ -318,6 +318,7 @@ fn expand<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool>(
                 c.ring_a = (v * 4 + h) as u32;
             }
             q.a_len += 1;
+            q.a_pushed += 1;
         }
     }
     let Some(cv) = cells.get_mut(v) else {
@@ -346,6 +347,7 @@ fn expand<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool>(
             c.ring_b = ((v * 4 + h) * 2 + dir) as u32;
         }
         q.b_len += 1;
+        q.b_pushed += 1;
     }
     Ok(())
 }

@@ -91,6 +91,9 @@ pub struct Report {
     /// Team-mate searches taken over from the host's memo rather than
     /// searched again, since the process started (see `phone_sim::memo`).
     pub searches_taken_over: u64,
+    /// Of those, the searches taken over in part: up to the first node
+    /// that read otherwise, searched on from there.
+    pub searches_taken_over_in_part: u64,
     /// Searches written down into the memo, since the process started.
     pub searches_recorded: u64,
     /// Per robot.
@@ -102,7 +105,7 @@ pub fn report(field: &Field, a: &ExploreArgs, timing: Timing, o: &Outcome, wall_
     let k = o.robots.len();
     let lower_bound_s = lower_bound_s(field, k, timing);
     let makespan_s = f64::from(o.makespan_ms) / 1000.0;
-    let (searches_taken_over, searches_recorded) = crate::cores::HOST_CORES.memo().counts();
+    let memo = crate::cores::HOST_CORES.memo().counts();
     Report {
         field: field.name().to_string(),
         strategy: a.strategy.clone(),
@@ -136,8 +139,9 @@ pub fn report(field: &Field, a: &ExploreArgs, timing: Timing, o: &Outcome, wall_
             .map(|f| format!("{f:?}")),
         localize_moves: o.localization.as_ref().map(|l| l.moves),
         wall_s,
-        searches_taken_over,
-        searches_recorded,
+        searches_taken_over: memo.taken_over,
+        searches_taken_over_in_part: memo.in_part,
+        searches_recorded: memo.recorded,
         per_robot: o
             .robots
             .iter()
@@ -254,8 +258,9 @@ fn print_report(
     );
     if r.searches_taken_over + r.searches_recorded > 0 {
         crate::outln!(
-            "team-mate searches: {} taken over, {} written down",
+            "team-mate searches: {} taken over ({} in part), {} written down",
             r.searches_taken_over,
+            r.searches_taken_over_in_part,
             r.searches_recorded
         );
     }

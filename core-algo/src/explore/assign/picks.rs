@@ -6,8 +6,8 @@ use super::INF;
 use crate::explore::{Context, MAX_ROBOTS, RobotView, Workers};
 use crate::map::Block;
 use crate::path::{
-    DistField, Flow, PlanCell, PlanError, Reached, RecordedSearch, SearchMemo, node_mark,
-    reads_same,
+    DistField, Flow, PlanCell, PlanError, Reached, RecordedSearch, SearchMemo, SearchRecorder,
+    node_mark, reads_same, split_at,
 };
 use crate::timing::Ticks;
 
@@ -67,6 +67,21 @@ struct Reach<'a, C, Fl> {
 /// alike from its own map, so their predictions of each other agree.
 pub(super) fn jumps_pay<M: AsRef<[Block]> + AsMut<[Block]>>(map: &crate::map::KnownMap<M>) -> bool {
     2 * map.two_armed_len() >= map.visited_len()
+}
+
+/// Tells `rec` that its search reached node `i` at travel `d`, with what
+/// the search read of it.
+fn written_down<M: AsRef<[Block]> + AsMut<[Block]>>(
+    map: &crate::map::KnownMap<M>,
+    rec: &mut dyn SearchRecorder,
+    i: usize,
+    d: Ticks,
+) {
+    rec.reached(Reached {
+        node: i as u32,
+        dist: d,
+        mark: node_mark(map, i),
+    });
 }
 
 impl Picks {
@@ -163,15 +178,55 @@ impl Picks {
         if found {
             return result;
         }
+        // None reads the same throughout: take one over in part, up to
+        // its first node that reads otherwise, where that spares at least
+        // half of its search (rebuilding the field from the record costs
+        // about as much as the search's other half), and write the search
+        // that goes on from there down.
+        let found = memo.recall(key, &mut |rec| {
+            let Some(split) = split_at(map, rec) else {
+                return false;
+            };
+            let head = match rec.reached.get(..split.before) {
+                Some(head) if 2 * head.len() >= rec.reached.len() => head,
+                _ => return false,
+            };
+            *self = fresh;
+            let stops = head
+                .iter()
+                .any(|x| self.reach(map, &to, x.node as usize, x.dist) == Flow::Stop);
+            if stops {
+                return false;
+            }
+            match field.take_over_before(map, timing, rec, split.dist) {
+                Ok(true) => memo.taken_over_in_part(),
+                Ok(false) => return false,
+                Err(e) => {
+                    result = Err(e);
+                    return true;
+                }
+            }
+            memo.record(key, &mut |out| {
+                for x in head {
+                    out.reached(*x);
+                }
+                result = field.resume(map, |i, d| {
+                    written_down(map, out, i, d);
+                    self.reach(map, &to, i, d)
+                });
+                if result.is_ok() {
+                    field.write_down(map, out);
+                }
+            });
+            true
+        });
+        if found {
+            return result;
+        }
         *self = fresh;
         memo.record(key, &mut |rec| {
             let reached = |i: usize, d: Ticks| {
-                let mark = node_mark(map, i);
-                rec.reached(Reached {
-                    node: i as u32,
-                    dist: d,
-                    mark,
-                });
+                written_down(map, rec, i, d);
                 self.reach(map, &to, i, d)
             };
             result = if jumping {

@@ -15,6 +15,7 @@ struct Written {
     reached: Vec<Reached>,
     read: Vec<(u32, u8)>,
     cells: Vec<(u32, PlanCell)>,
+    queued: [Vec<u32>; 2],
     state: Option<SearchState>,
 }
 
@@ -28,6 +29,9 @@ impl SearchRecorder for Written {
     fn cell(&mut self, i: u32, c: PlanCell) {
         self.cells.push((i, c));
     }
+    fn queued(&mut self, ring: usize, entry: u32) {
+        self.queued[ring].push(entry);
+    }
     fn finish(&mut self, state: SearchState) {
         self.state = Some(state);
     }
@@ -39,6 +43,7 @@ impl Written {
             reached: &self.reached,
             read: &self.read,
             cells: &self.cells,
+            queued: [&self.queued[0], &self.queued[1]],
             state: self.state.as_ref().expect("written down"),
         }
     }
@@ -163,6 +168,111 @@ proptest! {
     }
 }
 
+/// Searches `map` from `start` plainly, stopping after `stop` nodes.
+fn plain_until(
+    f: &mut DistField<Vec<PlanCell>>,
+    map: &KnownMap<Vec<Block>>,
+    t: Timing,
+    start: (Pos, Heading),
+    stop: usize,
+) -> Vec<(usize, Ticks)> {
+    let mut out = Vec::new();
+    f.compute(map, t, start.0, start.1, |i, d| {
+        out.push((i, d));
+        if out.len() > stop {
+            Flow::Stop
+        } else {
+            Flow::Continue
+        }
+    })
+    .unwrap();
+    out
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(1024))]
+
+    /// A plain search recorded on one map and taken over in part on another
+    /// ([`split_at`], [`DistField::take_over_before`]) goes on as a fresh
+    /// search there: the fresh one reaches the record's first `before`
+    /// nodes alike, and the taken-over one, resumed, reaches the rest at
+    /// the same times in the same order; stopped anywhere, every node and
+    /// pose has the fresh search's time, and written down again it holds
+    /// the fresh search's queue history, so it can be taken over whole.
+    #[test]
+    fn a_search_taken_over_in_part_goes_on_as_a_fresh_one(
+        w in 1u16..16, h in 1u16..16, seed in any::<u64>(), maze in any::<bool>(),
+        known in 1usize..120, grow in -6isize..6, pick in any::<usize>(), heading in 0u8..4,
+        stop in 0usize..256, more in 0usize..256, edge in 1u32..200, turn in 1u32..128,
+        before in any::<usize>(),
+    ) {
+        let b = Bounds::new(Pos::new(0, 0), w, h);
+        let area = b.area();
+        let arms = if maze { tree_arms(b, seed) } else { random_arms(b, seed) };
+        let order = bfs_order(b, &arms);
+        let a = known_prefix(b, &arms, known);
+        let other = known_prefix(b, &arms, known.saturating_add_signed(grow));
+        let t = Timing { edge, quarter_turn: turn };
+        let start = (b.pos(order[pick % known.min(order.len())]), Heading::from_index(heading));
+        let written = write(&mut field_for(area), &a, t, (start, false), stop);
+        let Some(split) = split_at(&other, written.rec()) else {
+            return Ok(());
+        };
+        prop_assert!(split.before > 0 && split.before < written.reached.len());
+        let k = split.before;
+        let mut fresh = field_for(area);
+        let all = plain_until(&mut fresh, &other, t, start, usize::MAX);
+        let head: Vec<_> = written.reached[..k].iter().map(|r| (r.node as usize, r.dist)).collect();
+        prop_assert_eq!(&all[..k], &head[..]);
+        prop_assert!(all.get(k).is_none_or(|&(_, d)| d >= split.dist));
+        // Another search stood in the field before.
+        let mut taken = field_for(area);
+        let was = b.pos(before % area);
+        search(&mut taken, &a, t, ((was, Heading::North), before % 2 == 0), |_, _| Flow::Continue);
+        if !taken.take_over_before(&other, t, written.rec(), split.dist).unwrap() {
+            // Refused only where the queues wrapped since.
+            let q = written.state.as_ref().unwrap().queue;
+            prop_assert!(written.queued[0].len() < q.a_pushed || written.queued[1].len() < q.b_pushed);
+            prop_assert!(!taken.is_distance_search_from(&other, t, start.0, start.1));
+            return Ok(());
+        }
+        prop_assert!(taken.is_search_from(&other, t, start.0, start.1));
+        let mut n = k;
+        let mut went = Vec::new();
+        taken.resume(&other, |i, d| {
+            went.push((i, d));
+            n += 1;
+            if n > k + more { Flow::Stop } else { Flow::Continue }
+        }).unwrap();
+        prop_assert_eq!(&went[..], &all[k..(k + more + 1).min(all.len())]);
+        let mut stopped = field_for(area);
+        plain_until(&mut stopped, &other, t, start, k + more);
+        prop_assert_eq!(times(&taken, area), times(&stopped, area));
+        let mut again = Written::default();
+        prop_assert!(taken.write_down(&other, &mut again));
+        let mut want = Written::default();
+        prop_assert!(stopped.write_down(&other, &mut want));
+        // It may hold fewer of the queues' last entries (none from
+        // before the take-over's time), but enough to be taken over whole.
+        for (got, all) in again.queued.iter().zip(&want.queued) {
+            prop_assert!(all.ends_with(got));
+        }
+        let mut whole = field_for(area);
+        whole.take_over(&other, t, again.rec()).unwrap();
+        prop_assert_eq!(times(&whole, area), times(&stopped, area));
+        let r0 = rest(&mut whole, &other);
+        let (r1, r2) = (rest(&mut taken, &other), rest(&mut stopped, &other));
+        prop_assert_eq!(&r1, &r2);
+        prop_assert_eq!(r0, r2);
+        prop_assert_eq!(times(&taken, area), times(&stopped, area));
+        // The next search in the field clears all that was written.
+        for f in [&mut taken, &mut stopped] {
+            f.compute(&other, t, was, Heading::South, |_, _| Flow::Continue).unwrap();
+        }
+        prop_assert_eq!(times(&taken, area), times(&stopped, area));
+    }
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(256))]
 
@@ -191,9 +301,18 @@ proptest! {
                 _ => written.cells.push((i, c)),
             }
         }
+        for (k, &(e, ..)) in junk.iter().enumerate() {
+            written.queued[k % 2].push(e);
+        }
         let mut f = field_for(area);
         f.take_over(&other, t, written.rec()).unwrap();
         let _ = f.resume(&other, |_, _| Flow::Continue);
+        let _ = f.dist_at(0);
+        // In part, at any time: refused without a queue history.
+        let dist = junk.first().map_or(0, |j| j.1 % 2000);
+        if matches!(f.take_over_before(&other, t, written.rec(), dist), Ok(true)) {
+            let _ = f.resume(&other, |_, _| Flow::Continue);
+        }
         let _ = f.dist_at(0);
     }
 }
