@@ -179,11 +179,36 @@ pub struct Split {
     pub before: usize,
 }
 
+impl RecordedSearch<'_> {
+    /// Whether it can be taken over in part
+    /// ([`DistField::take_over_before`]): a plain search's, that holds
+    /// its queues' last entries.
+    pub fn holds_queues(&self) -> bool {
+        self.state.history
+    }
+
+    /// How many of its nodes it reached before `dist`.
+    pub fn reached_before(&self, dist: Ticks) -> usize {
+        self.reached.partition_point(|r| r.dist < dist)
+    }
+}
+
+/// The first node `rec` reached that reads otherwise in `map` (an index
+/// into [`RecordedSearch::reached`]), if one does.
+pub fn first_read_otherwise<M: AsRef<[Block]> + AsMut<[Block]>>(
+    map: &KnownMap<M>,
+    rec: RecordedSearch<'_>,
+) -> Option<usize> {
+    rec.reached
+        .iter()
+        .position(|r| node_mark(map, r.node as usize) != r.mark)
+}
+
 /// Where the plain search `rec` can be taken over in part on `map`
 /// ([`DistField::take_over_before`]): up to the time it reached the first
 /// node that reads otherwise there. `None` where every node reads the same
-/// (take it over whole), where it holds no queue history (a jumping
-/// search, or queues that wrapped), or where its start reads otherwise.
+/// (take it over whole), where it holds no queues
+/// ([`RecordedSearch::holds_queues`]), or where its start reads otherwise.
 ///
 /// Why it holds: a plain search reads a node only when it drives on from
 /// it, once it has reached it, so all it did before that time it did
@@ -192,15 +217,11 @@ pub fn split_at<M: AsRef<[Block]> + AsMut<[Block]>>(
     map: &KnownMap<M>,
     rec: RecordedSearch<'_>,
 ) -> Option<Split> {
-    if !rec.state.history {
+    if !rec.holds_queues() {
         return None;
     }
-    let dist = rec
-        .reached
-        .iter()
-        .find(|r| node_mark(map, r.node as usize) != r.mark)?
-        .dist;
-    let before = rec.reached.partition_point(|r| r.dist < dist);
+    let dist = rec.reached.get(first_read_otherwise(map, rec)?)?.dist;
+    let before = rec.reached_before(dist);
     (before > 0).then_some(Split { dist, before })
 }
 
@@ -487,6 +508,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         }
         for &(i, _) in rec.cells {
             let i = i as usize;
+            let Some(base) = cells.get(i).and_then(PlanCell::dist) else {
+                continue;
+            };
             // A node the search did not drive on from turns nowhere: its
             // headings come only by edges, perhaps long after the first,
             // where the offset saturates (see `settle_in`). Whether such a
@@ -495,14 +519,18 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             if arms_at(map, i).is_none() {
                 for h in Heading::ALL {
                     let hi = usize::from(h.index());
-                    let from = neighbour_index(b, i, h.opposite())
-                        .and_then(|u| cells.get(u))
-                        .and_then(|c| c.pose_dist(hi));
+                    let saturated = cells
+                        .get(i)
+                        .is_some_and(|c| c.settled(hi) && c.off[hi] == NO_OFF - 1);
+                    let late = saturated
+                        && neighbour_index(b, i, h.opposite())
+                            .and_then(|u| cells.get(u))
+                            .and_then(|c| c.pose_dist(hi))
+                            .is_none_or(|k| k.saturating_add(t.edge) >= dist);
                     let Some(c) = cells.get_mut(i) else {
                         break;
                     };
-                    let saturated = c.settled(hi) && c.off[hi] == NO_OFF - 1;
-                    if saturated && from.is_none_or(|k| k.saturating_add(t.edge) >= dist) {
+                    if late {
                         c.base &= !(1 << (SETTLED_SHIFT + hi as u32));
                     }
                     if !c.settled(hi) {
@@ -510,12 +538,14 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                     }
                 }
             }
-            if let Some(last) = cells
-                .get(i)
-                .and_then(|c| (0..4).filter_map(|h| c.pose_dist(h)).max())
-            {
-                dirty.add(i, last);
-            }
+            let last = cells.get(i).map_or(0, |c| {
+                (0..4)
+                    .filter(|&h| c.settled(h))
+                    .map(|h| u32::from(c.off[h]))
+                    .max()
+                    .unwrap_or(0)
+            });
+            dirty.add(i, base + last);
         }
         let cap = cells.len();
         let settled = |cells: &[PlanCell], state: u32| {

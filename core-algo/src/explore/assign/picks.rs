@@ -7,7 +7,7 @@ use crate::explore::{Context, MAX_ROBOTS, RobotView, Workers};
 use crate::map::Block;
 use crate::path::{
     DistField, Flow, PlanCell, PlanError, Reached, RecordedSearch, SearchMemo, SearchRecorder,
-    node_mark, reads_same, split_at,
+    first_read_otherwise, node_mark, reads_same,
 };
 use crate::timing::Ticks;
 
@@ -178,27 +178,38 @@ impl Picks {
         if found {
             return result;
         }
-        // None reads the same throughout: take one over in part, up to
-        // its first node that reads otherwise, where that spares at least
-        // half of its search (rebuilding the field from the record costs
-        // about as much as the search's other half), and write the search
-        // that goes on from there down.
+        // None stands where a search of their own would: take one over in
+        // part, up to the first node that reads otherwise or that the picks
+        // stop at, where that spares at least half of its search
+        // (rebuilding the field from the record costs about as much as the
+        // search's other half), and write down the search that goes on
+        // from there.
         let found = memo.recall(key, &mut |rec| {
-            let Some(split) = split_at(map, rec) else {
-                return false;
-            };
-            let head = match rec.reached.get(..split.before) {
-                Some(head) if 2 * head.len() >= rec.reached.len() => head,
-                _ => return false,
-            };
-            *self = fresh;
-            let stops = head
-                .iter()
-                .any(|x| self.reach(map, &to, x.node as usize, x.dist) == Flow::Stop);
-            if stops {
+            if !rec.holds_queues() {
                 return false;
             }
-            match field.take_over_before(map, timing, rec, split.dist) {
+            let reached = rec.reached;
+            let changed = first_read_otherwise(map, rec).unwrap_or(reached.len());
+            let mut probe = fresh;
+            let stop = reached
+                .get(..changed)
+                .unwrap_or(&[])
+                .iter()
+                .position(|x| probe.reach(map, &to, x.node as usize, x.dist) == Flow::Stop);
+            let Some(dist) = reached.get(stop.unwrap_or(changed)).map(|x| x.dist) else {
+                return false;
+            };
+            let before = rec.reached_before(dist);
+            let head = match reached.get(..before) {
+                Some(head) if before > 0 && 2 * before >= reached.len() => head,
+                _ => return false,
+            };
+            // Nodes before `dist` come before the stop: none stops.
+            *self = fresh;
+            for x in head {
+                self.reach(map, &to, x.node as usize, x.dist);
+            }
+            match field.take_over_before(map, timing, rec, dist) {
                 Ok(true) => memo.taken_over_in_part(),
                 Ok(false) => return false,
                 Err(e) => {
