@@ -102,14 +102,44 @@ fn times(f: &DistField<Vec<PlanCell>>, area: usize) -> Vec<Option<Ticks>> {
         .collect()
 }
 
+/// A maze (mostly corridors) or a random field, its nodes in the order
+/// a search from the first reaches them, and two maps of it that know
+/// the first `known` and `other` nodes in that order.
+fn two_maps(
+    b: Bounds,
+    (seed, maze): (u64, bool),
+    (known, other): (usize, usize),
+) -> (Vec<usize>, KnownMap<Vec<Block>>, KnownMap<Vec<Block>>) {
+    let arms = if maze {
+        tree_arms(b, seed)
+    } else {
+        random_arms(b, seed)
+    };
+    let order = bfs_order(b, &arms);
+    (
+        order,
+        known_prefix(b, &arms, known),
+        known_prefix(b, &arms, other),
+    )
+}
+
+/// A search's callback that notes what it reaches in `out`, in order,
+/// and stops after `stop` nodes.
+fn noted(out: &mut Vec<(usize, Ticks)>, stop: usize) -> impl FnMut(usize, Ticks) -> Flow + '_ {
+    move |i, d| {
+        out.push((i, d));
+        if out.len() > stop {
+            Flow::Stop
+        } else {
+            Flow::Continue
+        }
+    }
+}
+
 /// Resumes `f` to the end: what it reaches, in order.
 fn rest(f: &mut DistField<Vec<PlanCell>>, map: &KnownMap<Vec<Block>>) -> Vec<(usize, Ticks)> {
     let mut out = Vec::new();
-    f.resume(map, |i, d| {
-        out.push((i, d));
-        Flow::Continue
-    })
-    .unwrap();
+    f.resume(map, noted(&mut out, usize::MAX)).unwrap();
     out
 }
 
@@ -134,10 +164,7 @@ proptest! {
     ) {
         let b = Bounds::new(Pos::new(0, 0), w, h);
         let area = b.area();
-        let arms = if maze { tree_arms(b, seed) } else { random_arms(b, seed) };
-        let order = bfs_order(b, &arms);
-        let a = known_prefix(b, &arms, known);
-        let other = known_prefix(b, &arms, other);
+        let (order, a, other) = two_maps(b, (seed, maze), (known, other));
         let t = Timing { edge, quarter_turn: turn };
         let start = (b.pos(order[pick % known.min(order.len())]), Heading::from_index(heading));
         let written = write(&mut field_for(area), &a, t, (start, jumping), stop);
@@ -177,15 +204,8 @@ fn plain_until(
     stop: usize,
 ) -> Vec<(usize, Ticks)> {
     let mut out = Vec::new();
-    f.compute(map, t, start.0, start.1, |i, d| {
-        out.push((i, d));
-        if out.len() > stop {
-            Flow::Stop
-        } else {
-            Flow::Continue
-        }
-    })
-    .unwrap();
+    f.compute(map, t, start.0, start.1, noted(&mut out, stop))
+        .unwrap();
     out
 }
 
@@ -198,7 +218,8 @@ proptest! {
     /// nodes alike, and the taken-over one, resumed, reaches the rest at
     /// the same times in the same order; stopped anywhere, every node and
     /// pose has the fresh search's time, and written down again it holds
-    /// the fresh search's queue history, so it can be taken over whole.
+    /// the fresh search's last queue entries (those since the take-over),
+    /// enough to be taken over whole.
     #[test]
     fn a_search_taken_over_in_part_goes_on_as_a_fresh_one(
         w in 1u16..16, h in 1u16..16, seed in any::<u64>(), maze in any::<bool>(),
@@ -208,10 +229,8 @@ proptest! {
     ) {
         let b = Bounds::new(Pos::new(0, 0), w, h);
         let area = b.area();
-        let arms = if maze { tree_arms(b, seed) } else { random_arms(b, seed) };
-        let order = bfs_order(b, &arms);
-        let a = known_prefix(b, &arms, known);
-        let other = known_prefix(b, &arms, known.saturating_add_signed(grow));
+        let other = known.saturating_add_signed(grow);
+        let (order, a, other) = two_maps(b, (seed, maze), (known, other));
         let t = Timing { edge, quarter_turn: turn };
         let start = (b.pos(order[pick % known.min(order.len())]), Heading::from_index(heading));
         let written = write(&mut field_for(area), &a, t, (start, false), stop);
