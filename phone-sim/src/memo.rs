@@ -3,7 +3,8 @@
 //! robot of a simulated team repeats, kept for the decisions that follow.
 //!
 //! A search is taken over only where every node it read reads the same
-//! in the deciding robot's map, so what the memo holds, or which search
+//! in the deciding robot's map, or in part, as far as every node it
+//! reached reads the same; so what the memo holds, or which search
 //! recorded it (another robot's, another run's), never changes a
 //! decision: it saves the search, nothing else.
 

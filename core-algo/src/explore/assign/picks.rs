@@ -117,8 +117,10 @@ impl Picks {
     /// [`Picks::more`]. With `spread`, nodes that near a `taken` one are
     /// skipped (then picks must not grow: `taken` changes). With a `memo`,
     /// a search from scratch takes over a recorded one where it can (see
-    /// [`Picks::take_over`]) and is written down where it cannot; later
-    /// rounds resume the field either way.
+    /// [`Picks::take_over`]), or a plain one in part (see
+    /// `DistField::take_over_before`), and is written down where it
+    /// cannot take one over whole; later rounds resume the field either
+    /// way.
     pub(super) fn grow<M, F>(
         &mut self,
         ctx: &Context<'_, M>,
@@ -181,9 +183,8 @@ impl Picks {
         // None stands where a search of their own would: take one over in
         // part, up to the first node that reads otherwise or that the picks
         // stop at, where that spares at least half of its search
-        // (rebuilding the field from the record costs about as much as the
-        // search's other half), and write down the search that goes on
-        // from there.
+        // (rebuilding the field is a pass over all the record's cells),
+        // and write down the search that goes on from there.
         let found = memo.recall(key, &mut |rec| {
             if !rec.holds_queues() {
                 return false;
