@@ -38,8 +38,8 @@ use core::fmt;
 pub use corridor::JUMP_SLOTS;
 pub use exits::CorridorExits;
 pub use record::{
-    Reached, RecordedSearch, SearchKey, SearchMemo, SearchRecorder, SearchState, Split,
-    first_read_otherwise, node_mark, reads_same, split_at,
+    Reached, RecordedSearch, SearchKey, SearchMemo, SearchRecorder, SearchState,
+    first_read_otherwise, node_mark, reads_same,
 };
 pub use refresh::way_in;
 use scratch::{DIST_MASK, Dirty, NO_OFF, ON_WAY, Queues, SETTLED_SHIFT};

@@ -242,7 +242,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             {
                 for n in from.max(pushed.saturating_sub(cap))..pushed {
                     if let Some(c) = cells.get(n % cap) {
-                        rec.queued(ring, if ring == 0 { c.ring_a } else { c.ring_b });
+                        rec.queued(ring, c.ring(ring));
                     }
                 }
             }
@@ -343,19 +343,13 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         if rec.state.history {
             // The entries still waiting, each to its slot.
             let cap = cells.len();
-            let [a, b] = rec.queued;
-            let live = |len: usize, pushed: usize, kept: usize| {
-                let first = pushed.saturating_sub(kept);
-                (pushed.saturating_sub(len)..pushed).map(move |n| (n % cap, n - first))
-            };
-            for (slot, k) in live(q.a_len, q.a_pushed, a.len()) {
-                if let (Some(c), Some(&e)) = (cells.get_mut(slot), a.get(k)) {
-                    c.ring_a = e;
-                }
-            }
-            for (slot, k) in live(q.b_len, q.b_pushed, b.len()) {
-                if let (Some(c), Some(&e)) = (cells.get_mut(slot), b.get(k)) {
-                    c.ring_b = e;
+            let rings = [(q.a_len, q.a_pushed), (q.b_len, q.b_pushed)];
+            for (ring, ((len, pushed), kept)) in rings.into_iter().zip(rec.queued).enumerate() {
+                let first = pushed.saturating_sub(kept.len());
+                for n in pushed.saturating_sub(len)..pushed {
+                    if let (Some(c), Some(&e)) = (cells.get_mut(n % cap), kept.get(n - first)) {
+                        *c.ring_mut(ring) = e;
+                    }
                 }
             }
             q.a_from = q.a_pushed.saturating_sub(q.a_len);
@@ -372,7 +366,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
 
 mod part;
 
-pub use part::{Split, first_read_otherwise, split_at};
+pub use part::first_read_otherwise;
 
 #[cfg(test)]
 mod tests;

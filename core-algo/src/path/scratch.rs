@@ -54,6 +54,21 @@ impl PlanCell {
         self.base & (1 << (SETTLED_SHIFT + h as u32)) != 0
     }
 
+    /// Ring slot `ring` of this cell: 0 the edge ring's, 1 the turn
+    /// ring's.
+    pub(super) fn ring(&self, ring: usize) -> u32 {
+        if ring == 0 { self.ring_a } else { self.ring_b }
+    }
+
+    /// [`PlanCell::ring`], to write.
+    pub(super) fn ring_mut(&mut self, ring: usize) -> &mut u32 {
+        if ring == 0 {
+            &mut self.ring_a
+        } else {
+            &mut self.ring_b
+        }
+    }
+
     pub(super) fn pose_dist(&self, h: usize) -> Option<Ticks> {
         if self.settled(h) {
             Some((self.base & DIST_MASK) + u32::from(*self.off.get(h)?))

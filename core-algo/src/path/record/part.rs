@@ -18,16 +18,6 @@ use crate::geometry::Heading;
 use crate::map::{Block, KnownMap};
 use crate::timing::{Ticks, Timing};
 
-/// Where a record stops holding on another map (see [`split_at`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Split {
-    /// The time the record reached its first node that reads otherwise.
-    pub dist: Ticks,
-    /// How many nodes it reached before that time: a search on the other
-    /// map reaches these alike, in the same order.
-    pub before: usize,
-}
-
 impl RecordedSearch<'_> {
     /// Whether it can be taken over in part
     /// ([`DistField::take_over_before`]): a plain search's, that holds
@@ -51,27 +41,6 @@ pub fn first_read_otherwise<M: AsRef<[Block]> + AsMut<[Block]>>(
     rec.reached
         .iter()
         .position(|r| node_mark(map, r.node as usize) != r.mark)
-}
-
-/// Where the plain search `rec` can be taken over in part on `map`
-/// ([`DistField::take_over_before`]): up to the time it reached the first
-/// node that reads otherwise there. `None` where every node reads the same
-/// (take it over whole), where it holds no queues
-/// ([`RecordedSearch::holds_queues`]), or where its start reads otherwise.
-///
-/// Why it holds: a plain search reads a node only when it drives on from
-/// it, once it has reached it, so all it did before that time it did
-/// alike on both maps.
-pub fn split_at<M: AsRef<[Block]> + AsMut<[Block]>>(
-    map: &KnownMap<M>,
-    rec: RecordedSearch<'_>,
-) -> Option<Split> {
-    if !rec.holds_queues() {
-        return None;
-    }
-    let dist = rec.reached.get(first_read_otherwise(map, rec)?)?.dist;
-    let before = rec.reached_before(dist);
-    (before > 0).then_some(Split { dist, before })
 }
 
 impl PlanCell {
@@ -116,11 +85,13 @@ impl PlanCell {
 impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// Makes this field the plain search `rec` as it stood before it
     /// settled anything at `dist` or later, over `map` as it is now: the
-    /// caller has checked with [`split_at`] that every node it reached
-    /// before `dist` reads the same there. Afterwards the field is where a
-    /// search of its own from the same pose stands at that time, its
-    /// callback told of the record's first [`Split::before`] nodes; resume
-    /// it to go on. False, and the field cleared, where the record does
+    /// caller has checked that every node it reached before `dist` reads
+    /// the same there (`dist` at most that of the
+    /// [`first_read_otherwise`]). Afterwards the field is where a search
+    /// of its own from the same pose stands at that time, its callback
+    /// told of the record's nodes reached before `dist`
+    /// ([`RecordedSearch::reached_before`]); resume it to go on (see the
+    /// module docs for why). False, and the field cleared, where the record does
     /// not hold its queues as they were then (a jumping search, or one
     /// whose queues wrapped since). A record of another window, scratch
     /// size or timing is refused with [`PlanError::OutOfBounds`] of its
@@ -226,11 +197,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             let popped = kept.get(..queued).unwrap_or(&[]).partition_point(gone);
             for n in popped..queued {
                 if let (Some(c), Some(&e)) = (cells.get_mut((first + n) % cap), kept.get(n)) {
-                    if ring == 0 {
-                        c.ring_a = e;
-                    } else {
-                        c.ring_b = e;
-                    }
+                    *c.ring_mut(ring) = e;
                 }
             }
             if let Some(end) = ends.get_mut(ring) {
