@@ -384,8 +384,20 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         pose: (Pos, Heading, bool),
         reached: impl FnMut(usize, Ticks) -> Flow,
     ) -> Result<(), PlanError> {
+        self.compute_kept_reading(map, timing, pose, (reached, |_| {}))
+    }
+
+    /// [`DistField::compute_kept`] telling `read` every node a jumping
+    /// search's walks read (see `record`).
+    pub(super) fn compute_kept_reading<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        pose: (Pos, Heading, bool),
+        (reached, read): (impl FnMut(usize, Ticks) -> Flow, impl FnMut(usize)),
+    ) -> Result<(), PlanError> {
         self.tree = None;
-        let result = self.search_from(map, timing, pose, |_| true, reached);
+        let result = self.search_from(map, timing, pose, (|_| true, read), reached);
         if result.is_ok() {
             self.tree = Some(map.revision());
         }
@@ -401,7 +413,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         map: &KnownMap<M>,
         timing: Timing,
         (start, heading, jumping): (Pos, Heading, bool),
-        passable: impl Fn(usize) -> bool,
+        (passable, read): (impl Fn(usize) -> bool, impl FnMut(usize)),
         mut reached: impl FnMut(usize, Ticks) -> Flow,
     ) -> Result<(), PlanError> {
         let s0 = self.prepare(map, timing, start, heading)?;
@@ -412,7 +424,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         if reached(s0, 0) == Flow::Stop {
             return Ok(());
         }
-        self.run_forward(map, |v| v == s0 || passable(v), reached)
+        self.run_forward(map, (|v| v == s0 || passable(v), read), reached)
     }
 
     /// [`DistField::run`] from the start, reporting each node once, when
@@ -420,7 +432,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     fn run_forward<M: AsRef<[Block]> + AsMut<[Block]>>(
         &mut self,
         map: &KnownMap<M>,
-        passable: impl Fn(usize) -> bool,
+        (passable, read): (impl Fn(usize) -> bool, impl FnMut(usize)),
         mut reached: impl FnMut(usize, Ticks) -> Flow,
     ) -> Result<(), PlanError> {
         let settled = |v, _, key, first| {
@@ -431,7 +443,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             }
         };
         if self.jumping {
-            self.run_jumping::<M, false>(map, passable, settled)
+            self.run_jumping::<M, false>(map, (passable, read), settled)
         } else {
             self.run::<M, false>(map, passable, settled)
         }
@@ -555,7 +567,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         if self.start.is_none() {
             return Ok(());
         }
-        self.run_forward(map, |_| true, reached)
+        self.run_forward(map, (|_| true, |_| {}), reached)
     }
 
     /// [`DistField::compute`] that never drives through the nodes `avoid`
@@ -576,7 +588,8 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         reached: impl FnMut(usize, Ticks) -> Flow,
     ) -> Result<(), PlanError> {
         self.tree = None;
-        let result = self.search_from(map, timing, (pose.0, pose.1, false), |v| !avoid(v), reached);
+        let walk = (|v| !avoid(v), |_| {});
+        let result = self.search_from(map, timing, (pose.0, pose.1, false), walk, reached);
         // A resume would go on without `avoid`.
         self.queue = Queues::default();
         self.start = None;

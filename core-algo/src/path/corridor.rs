@@ -125,13 +125,14 @@ impl Jumps {
 /// and whether it passed any corridor node. A node is passed only if it
 /// has exactly two known arms, one of them back the way it came, is
 /// `passable`, and holds no settled state yet (the start, or a node a full
-/// heap sent the search into, is searched as usual).
+/// heap sent the search into, is searched as usual). `read` is told every
+/// node whose arms it reads, the last one too.
 #[inline]
 pub(super) fn walk<M: AsRef<[Block]> + AsMut<[Block]>>(
     (cells, jumps): (&[PlanCell], &Jumps),
     map: &KnownMap<M>,
     (bounds, t): (Bounds, Timing),
-    passable: &impl Fn(usize) -> bool,
+    (passable, read): (&impl Fn(usize) -> bool, &mut impl FnMut(usize)),
     (w, h, key): (usize, usize, Ticks),
 ) -> ((usize, usize, Ticks), bool) {
     let (mut v, mut h, mut key) = (w, h, key);
@@ -140,6 +141,7 @@ pub(super) fn walk<M: AsRef<[Block]> + AsMut<[Block]>>(
     // stops (no corridor node, or the start, or one gone into plain); the
     // bound guards a corrupt map.
     for _ in 0..bounds.area() {
+        read(v);
         let Some(out) = other_arm(map, jumps.start, v, (h + 2) & 3) else {
             break;
         };

@@ -28,7 +28,7 @@
 
 use super::corridor::{Jumps, other_arm};
 use super::scratch::{DIST_MASK, Dirty, Queues};
-use super::{DistField, PlanCell, PlanError, arms_at, neighbour_index};
+use super::{DistField, Flow, PlanCell, PlanError, arms_at, neighbour_index};
 use crate::geometry::Heading;
 use crate::map::{Block, Bounds, KnownMap};
 use crate::timing::{Ticks, Timing};
@@ -203,6 +203,57 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         map: &KnownMap<M>,
         rec: &mut dyn SearchRecorder,
     ) -> bool {
+        self.write_down_walking(map, rec, self.jumping)
+    }
+
+    /// A search from (`start`, `heading`), [`DistField::compute_jumping`]
+    /// if `jumping` else [`DistField::compute`], that tells `rec` every
+    /// node it reaches, and then, unless it failed, is written down there
+    /// as [`DistField::write_down`] would. A jumping search tells `rec`
+    /// the nodes its walks read as it walks them: exactly what it read,
+    /// where `write_down` walks every corridor again from every settled
+    /// state (a tenth of a 16-robot run on a 256² maze, and more than the
+    /// search read).
+    pub fn compute_written_down<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        (start, heading, jumping): (crate::geometry::Pos, Heading, bool),
+        rec: &mut dyn SearchRecorder,
+        mut reached: impl FnMut(usize, Ticks) -> Flow,
+    ) -> Result<(), PlanError> {
+        // Both callbacks tell `rec`, one at a time.
+        let told = core::cell::RefCell::new(rec);
+        let result = self.compute_kept_reading(
+            map,
+            timing,
+            (start, heading, jumping),
+            (
+                |i: usize, d: Ticks| {
+                    told.borrow_mut().reached(Reached {
+                        node: i as u32,
+                        dist: d,
+                        mark: node_mark(map, i),
+                    });
+                    reached(i, d)
+                },
+                |v: usize| told.borrow_mut().read(v as u32, node_mark(map, v)),
+            ),
+        );
+        if result.is_ok() {
+            self.write_down_walking(map, told.into_inner(), false);
+        }
+        result
+    }
+
+    /// [`DistField::write_down`], the corridors walked again only if
+    /// `walks` (the search did not tell the recorder as it went).
+    fn write_down_walking<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &self,
+        map: &KnownMap<M>,
+        rec: &mut dyn SearchRecorder,
+        walks: bool,
+    ) -> bool {
         let Some(key) = self.key() else {
             return false;
         };
@@ -222,7 +273,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             for (k, c) in cells.get(row).unwrap_or(&[]).iter().enumerate() {
                 if c.base & DIST_MASK != DIST_MASK {
                     rec.cell((start + k) as u32, *c);
-                    if self.jumping {
+                    if walks {
                         self.write_walks(map, (start + k, c), rec);
                     }
                 }

@@ -277,7 +277,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         }
         let settled = |v, h, key, _| reached(v, Heading::from_index(h as u8), key);
         let result = if self.jumping {
-            self.run_jumping::<M, true>(map, |_| true, settled)
+            self.run_jumping::<M, true>(map, (|_| true, |_| {}), settled)
         } else {
             self.run::<M, true>(map, |_| true, settled)
         };

@@ -103,7 +103,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                 flow
             };
             if jumping {
-                self.run_jumping::<M, true>(map, |_| true, settled)
+                self.run_jumping::<M, true>(map, (|_| true, |_| {}), settled)
             } else {
                 self.run::<M, true>(map, |_| true, settled)
             }

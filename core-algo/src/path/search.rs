@@ -52,8 +52,8 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let result = loop {
             if let Some(state) = q.pending.take() {
                 let queues = (&mut q, None);
-                if let Err(e) = expand::<M, REV>(cells, queues, map, (bounds, t), &passable, state)
-                {
+                let walk = (&passable, &mut |_| {});
+                if let Err(e) = expand::<M, REV>(cells, queues, map, (bounds, t), walk, state) {
                     break Err(e);
                 }
             }
@@ -133,10 +133,11 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// the jump queue folded away by a const parameter when plain, ran
     /// every plain search slower (rooms 128², 16 robots, no search
     /// jumping: 68 against 58 s; docs/results/performance.md, stop 42).
+    /// `read` is told every node a forward walk reads the arms of.
     pub(super) fn run_jumping<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool>(
         &mut self,
         map: &KnownMap<M>,
-        passable: impl Fn(usize) -> bool,
+        (passable, mut read): (impl Fn(usize) -> bool, impl FnMut(usize)),
         mut settled: impl FnMut(usize, usize, Ticks, bool) -> Flow,
     ) -> Result<(), PlanError> {
         // The marks share the ring slots that the queues are about to use.
@@ -162,8 +163,8 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let result = loop {
             if let Some(state) = q.pending.take() {
                 let queues = (&mut q, Some(&mut *jumps));
-                if let Err(e) = expand::<M, REV>(cells, queues, map, (bounds, t), &passable, state)
-                {
+                let walk = (&passable, &mut read);
+                if let Err(e) = expand::<M, REV>(cells, queues, map, (bounds, t), walk, state) {
                     break Err(e);
                 }
             }
@@ -257,15 +258,16 @@ const NO_KEY: Ticks = Ticks::MAX;
 /// 0) was entered along an edge, so it is passable and may turn.
 ///
 /// With `jumps`, an edge into a corridor goes on to its far end (see
-/// `corridor::walk`; reverse: back to where a robot would enter it, see
-/// `corridor::walk_back`) and queues the arrival there, unless it is full.
+/// `corridor::walk`, which tells `read` every node it reads; reverse: back
+/// to where a robot would enter it, see `corridor::walk_back`) and queues
+/// the arrival there, unless it is full.
 #[inline(always)]
 fn expand<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool>(
     cells: &mut [PlanCell],
     (q, jumps): (&mut Queues, Option<&mut Jumps>),
     map: &KnownMap<M>,
     (bounds, t): (Bounds, Timing),
-    passable: &impl Fn(usize) -> bool,
+    (passable, read): (&impl Fn(usize) -> bool, &mut impl FnMut(usize)),
     (v, h, d): (usize, usize, Ticks),
 ) -> Result<(), PlanError> {
     let cap = cells.len();
@@ -295,7 +297,8 @@ fn expand<M: AsRef<[Block]> + AsMut<[Block]>, const REV: bool>(
                     let walked = if REV {
                         corridor::walk_back(map, (bounds, t), jumps.start(), into)
                     } else {
-                        corridor::walk((&*cells, &*jumps), map, (bounds, t), passable, into)
+                        let walk = (passable, read);
+                        corridor::walk((&*cells, &*jumps), map, (bounds, t), walk, into)
                     };
                     match walked {
                         (end, true) => Some((end, jumps)),

@@ -237,18 +237,9 @@ impl Picks {
         }
         *self = fresh;
         memo.record(key, &mut |rec| {
-            let reached = |i: usize, d: Ticks| {
-                written_down(map, rec, i, d);
-                self.reach(map, &to, i, d)
-            };
-            result = if jumping {
-                field.compute_jumping(map, timing, pos, heading, reached)
-            } else {
-                field.compute(map, timing, pos, heading, reached)
-            };
-            if result.is_ok() {
-                field.write_down(map, rec);
-            }
+            let pose = (pos, heading, jumping);
+            result = field
+                .compute_written_down(map, timing, pose, rec, |i, d| self.reach(map, &to, i, d));
         });
         result
     }
