@@ -7,7 +7,7 @@ use crate::explore::{Context, MAX_ROBOTS, RobotView, Workers};
 use crate::map::Block;
 use crate::path::{
     DistField, Flow, PlanCell, PlanError, Reached, RecordedSearch, SearchMemo, SearchRecorder,
-    first_read_otherwise, node_mark, reads_same,
+    node_mark, reads_same,
 };
 use crate::timing::Ticks;
 
@@ -190,14 +190,15 @@ impl Picks {
                 return false;
             }
             let reached = rec.reached;
-            let changed = first_read_otherwise(map, rec).unwrap_or(reached.len());
+            // One pass to the first node that reads otherwise
+            // (`first_read_otherwise`) or where the picks stop: a record
+            // that went farther than they do reads the same to its end.
             let mut probe = fresh;
-            let stop = reached
-                .get(..changed)
-                .unwrap_or(&[])
-                .iter()
-                .position(|x| probe.reach(map, &to, x.node as usize, x.dist) == Flow::Stop);
-            let Some(dist) = reached.get(stop.unwrap_or(changed)).map(|x| x.dist) else {
+            let upto = reached.iter().position(|x| {
+                let i = x.node as usize;
+                node_mark(map, i) != x.mark || probe.reach(map, &to, i, x.dist) == Flow::Stop
+            });
+            let Some(dist) = reached.get(upto.unwrap_or(reached.len())).map(|x| x.dist) else {
                 return false;
             };
             let before = rec.reached_before(dist);
