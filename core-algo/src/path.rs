@@ -407,7 +407,8 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// The forward search of [`DistField::compute`] and
     /// [`DistField::compute_avoiding`] (and, `jumping`, of
     /// [`DistField::compute_jumping`]): drives on only from the start and
-    /// from nodes for which `passable` holds.
+    /// from nodes for which `passable` holds, and tells `read` every node
+    /// its corridor walks read (see `corridor::walk`).
     fn search_from<M: AsRef<[Block]> + AsMut<[Block]>>(
         &mut self,
         map: &KnownMap<M>,
