@@ -77,6 +77,21 @@ pub struct Reached {
     pub mark: u8,
 }
 
+impl Reached {
+    /// Node `i` of `map`, reached at travel `d`, as a search reads it.
+    pub fn at<M: AsRef<[Block]> + AsMut<[Block]>>(
+        map: &KnownMap<M>,
+        i: usize,
+        d: Ticks,
+    ) -> Reached {
+        Reached {
+            node: i as u32,
+            dist: d,
+            mark: node_mark(map, i),
+        }
+    }
+}
+
 /// What a recorded search holds besides its cells: where its queues and
 /// jump arrivals stand, and the box of cells it wrote.
 #[derive(Clone, Debug)]
@@ -230,11 +245,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             (start, heading, jumping),
             (
                 |i: usize, d: Ticks| {
-                    told.borrow_mut().reached(Reached {
-                        node: i as u32,
-                        dist: d,
-                        mark: node_mark(map, i),
-                    });
+                    told.borrow_mut().reached(Reached::at(map, i, d));
                     reached(i, d)
                 },
                 |v: usize| told.borrow_mut().read(v as u32, node_mark(map, v)),

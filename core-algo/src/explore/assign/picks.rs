@@ -6,8 +6,8 @@ use super::INF;
 use crate::explore::{Context, MAX_ROBOTS, RobotView, Workers};
 use crate::map::Block;
 use crate::path::{
-    DistField, Flow, PlanCell, PlanError, Reached, RecordedSearch, SearchMemo, SearchRecorder,
-    node_mark, reads_same,
+    DistField, Flow, PlanCell, PlanError, Reached, RecordedSearch, SearchMemo, node_mark,
+    reads_same,
 };
 use crate::timing::Ticks;
 
@@ -67,21 +67,6 @@ struct Reach<'a, C, Fl> {
 /// alike from its own map, so their predictions of each other agree.
 pub(super) fn jumps_pay<M: AsRef<[Block]> + AsMut<[Block]>>(map: &crate::map::KnownMap<M>) -> bool {
     2 * map.two_armed_len() >= map.visited_len()
-}
-
-/// Tells `rec` that its search reached node `i` at travel `d`, with what
-/// the search read of it.
-fn written_down<M: AsRef<[Block]> + AsMut<[Block]>>(
-    map: &crate::map::KnownMap<M>,
-    rec: &mut dyn SearchRecorder,
-    i: usize,
-    d: Ticks,
-) {
-    rec.reached(Reached {
-        node: i as u32,
-        dist: d,
-        mark: node_mark(map, i),
-    });
 }
 
 impl Picks {
@@ -224,7 +209,7 @@ impl Picks {
                     out.reached(*x);
                 }
                 result = field.resume(map, |i, d| {
-                    written_down(map, out, i, d);
+                    out.reached(Reached::at(map, i, d));
                     self.reach(map, &to, i, d)
                 });
                 if result.is_ok() {
