@@ -16,7 +16,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 
 /// Searches kept per start pose: a team mate's pose is searched again
-/// while it drives an edge, on maps that grow elsewhere.
+/// while it drives an edge, on maps that grow elsewhere. As many rests of
+/// a search are kept per record they go on from.
 const PER_KEY: usize = 4;
 
 /// Bytes of records kept at most; the oldest go first. A team mate's pose
@@ -36,8 +37,13 @@ pub struct MemoCounts {
     pub taken_over: u64,
     /// Of those, the ones taken over in part.
     pub in_part: u64,
+    /// Rests of searches taken over, that went on where a field stood (see
+    /// [`SearchMemo::record_after`]).
+    pub after: u64,
     /// Searches written down.
     pub recorded: u64,
+    /// Rests of searches written down.
+    pub recorded_after: u64,
 }
 
 /// See the module docs.
@@ -46,21 +52,30 @@ pub struct HostMemo {
     store: Mutex<Store>,
     taken_over: AtomicU64,
     in_part: AtomicU64,
+    after: AtomicU64,
     recorded: AtomicU64,
+    recorded_after: AtomicU64,
+    /// The last record's id: ids are never 0 nor used twice.
+    last_id: AtomicU64,
 }
 
 #[derive(Debug)]
 struct Store {
     by_key: BTreeMap<SearchKey, Vec<Arc<Record>>>,
+    /// The rests of searches, by the record they go on from.
+    by_after: BTreeMap<u64, Vec<Arc<Record>>>,
     /// Every record kept, oldest first, for eviction. One pushed out of
     /// its pose's list by newer ones stays here, and counted in `bytes`,
     /// until it is evicted.
-    order: VecDeque<(SearchKey, Arc<Record>)>,
+    order: VecDeque<Arc<Record>>,
     bytes: usize,
 }
 
 #[derive(Debug)]
 struct Record {
+    key: SearchKey,
+    id: u64,
+    after: u64,
     reached: Vec<Reached>,
     read: Vec<(u32, u8)>,
     cells: Vec<(u32, PlanCell)>,
@@ -85,12 +100,16 @@ impl HostMemo {
         HostMemo {
             store: Mutex::new(Store {
                 by_key: BTreeMap::new(),
+                by_after: BTreeMap::new(),
                 order: VecDeque::new(),
                 bytes: 0,
             }),
             taken_over: AtomicU64::new(0),
             in_part: AtomicU64::new(0),
+            after: AtomicU64::new(0),
             recorded: AtomicU64::new(0),
+            recorded_after: AtomicU64::new(0),
+            last_id: AtomicU64::new(0),
         }
     }
 
@@ -101,33 +120,114 @@ impl HostMemo {
         MemoCounts {
             taken_over: self.taken_over.load(Ordering::Relaxed),
             in_part: self.in_part.load(Ordering::Relaxed),
+            after: self.after.load(Ordering::Relaxed),
             recorded: self.recorded.load(Ordering::Relaxed),
+            recorded_after: self.recorded_after.load(Ordering::Relaxed),
         }
     }
 
-    fn insert(&self, key: SearchKey, record: Record) {
+    fn insert(&self, record: Record) {
         let record = Arc::new(record);
         // A poisoned lock only means another thread panicked mid-insert:
         // every record in it is whole, so go on with it.
         let mut s = self.store.lock().unwrap_or_else(|e| e.into_inner());
         s.bytes += record.bytes();
-        let list = s.by_key.entry(key).or_default();
+        let list = s.list(&record);
         list.push(Arc::clone(&record));
         if list.len() > PER_KEY {
             list.remove(0);
         }
-        s.order.push_back((key, record));
+        s.order.push_back(record);
         while s.bytes > MAX_BYTES {
-            let Some((k, old)) = s.order.pop_front() else {
+            let Some(old) = s.order.pop_front() else {
                 break;
             };
             s.bytes -= old.bytes();
-            if let Some(list) = s.by_key.get_mut(&k) {
-                list.retain(|r| !Arc::ptr_eq(r, &old));
-                if list.is_empty() {
-                    s.by_key.remove(&k);
+            let list = s.list(&old);
+            list.retain(|r| !Arc::ptr_eq(r, &old));
+            if list.is_empty() {
+                if old.after == 0 {
+                    s.by_key.remove(&old.key);
+                } else {
+                    s.by_after.remove(&old.after);
                 }
             }
+        }
+    }
+
+    /// Hands `take` the records of the list `of` picks (newest first)
+    /// until it returns true, and counts one in `took` if it did; whether
+    /// it did.
+    fn hand(
+        &self,
+        of: impl FnOnce(&Store) -> Option<&Vec<Arc<Record>>>,
+        took: &AtomicU64,
+        take: &mut dyn FnMut(RecordedSearch<'_>) -> bool,
+    ) -> bool {
+        // Out of the lock before trying them: trying one replays the search.
+        let list: Vec<Arc<Record>> = {
+            let s = self.store.lock().unwrap_or_else(|e| e.into_inner());
+            of(&s).cloned().unwrap_or_default()
+        };
+        for r in list.iter().rev() {
+            let rec = RecordedSearch {
+                id: r.id,
+                after: r.after,
+                reached: &r.reached,
+                read: &r.read,
+                cells: &r.cells,
+                queued: [&r.queued[0], &r.queued[1]],
+                state: &r.state,
+            };
+            if take(rec) {
+                took.fetch_add(1, Ordering::Relaxed);
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Runs `search` into a recorder and keeps what it wrote down, if
+    /// whole: its id.
+    fn keep(
+        &self,
+        key: SearchKey,
+        after: u64,
+        search: &mut dyn FnMut(&mut dyn SearchRecorder),
+    ) -> Option<u64> {
+        let mut rec = Recorder::default();
+        search(&mut rec);
+        let (Some(state), false) = (rec.state.take(), rec.too_long) else {
+            return None;
+        };
+        let count = if after == 0 {
+            &self.recorded
+        } else {
+            &self.recorded_after
+        };
+        count.fetch_add(1, Ordering::Relaxed);
+        let id = self.last_id.fetch_add(1, Ordering::Relaxed) + 1;
+        self.insert(Record {
+            key,
+            id,
+            after,
+            reached: rec.reached,
+            read: rec.read,
+            cells: rec.cells,
+            queued: rec.queued,
+            state,
+        });
+        Some(id)
+    }
+}
+
+impl Store {
+    /// The list `r` is kept in.
+    fn list(&mut self, r: &Record) -> &mut Vec<Arc<Record>> {
+        if r.after == 0 {
+            self.by_key.entry(r.key).or_default()
+        } else {
+            self.by_after.entry(r.after).or_default()
         }
     }
 }
@@ -140,45 +240,32 @@ impl Default for HostMemo {
 
 impl SearchMemo for HostMemo {
     fn recall(&self, key: SearchKey, take: &mut dyn FnMut(RecordedSearch<'_>) -> bool) -> bool {
-        // Out of the lock before trying them: trying one replays the search.
-        let list: Vec<Arc<Record>> = {
-            let s = self.store.lock().unwrap_or_else(|e| e.into_inner());
-            s.by_key.get(&key).cloned().unwrap_or_default()
-        };
-        for r in list.iter().rev() {
-            let rec = RecordedSearch {
-                reached: &r.reached,
-                read: &r.read,
-                cells: &r.cells,
-                queued: [&r.queued[0], &r.queued[1]],
-                state: &r.state,
-            };
-            if take(rec) {
-                self.taken_over.fetch_add(1, Ordering::Relaxed);
-                return true;
-            }
-        }
-        false
+        self.hand(|s| s.by_key.get(&key), &self.taken_over, take)
+    }
+
+    fn recall_after(&self, after: u64, take: &mut dyn FnMut(RecordedSearch<'_>) -> bool) -> bool {
+        self.hand(|s| s.by_after.get(&after), &self.after, take)
     }
 
     fn taken_over_in_part(&self) {
         self.in_part.fetch_add(1, Ordering::Relaxed);
     }
 
-    fn record(&self, key: SearchKey, search: &mut dyn FnMut(&mut dyn SearchRecorder)) {
-        let mut rec = Recorder::default();
-        search(&mut rec);
-        if let (Some(state), false) = (rec.state.take(), rec.too_long) {
-            self.recorded.fetch_add(1, Ordering::Relaxed);
-            let record = Record {
-                reached: rec.reached,
-                read: rec.read,
-                cells: rec.cells,
-                queued: rec.queued,
-                state,
-            };
-            self.insert(key, record);
-        }
+    fn record(
+        &self,
+        key: SearchKey,
+        search: &mut dyn FnMut(&mut dyn SearchRecorder),
+    ) -> Option<u64> {
+        self.keep(key, 0, search)
+    }
+
+    fn record_after(
+        &self,
+        key: SearchKey,
+        after: u64,
+        search: &mut dyn FnMut(&mut dyn SearchRecorder),
+    ) -> Option<u64> {
+        self.keep(key, after, search)
     }
 }
 
@@ -220,6 +307,10 @@ impl SearchRecorder for Recorder {
         if let (false, Some(q)) = (self.too_long, self.queued.get_mut(ring)) {
             q.push(entry);
         }
+    }
+
+    fn cells(&mut self) -> &mut [(u32, PlanCell)] {
+        &mut self.cells
     }
 
     fn finish(&mut self, state: SearchState) {
@@ -291,7 +382,9 @@ mod tests {
         let counts = MemoCounts {
             taken_over: 0,
             in_part: 0,
+            after: 0,
             recorded: 6,
+            recorded_after: 0,
         };
         assert_eq!(memo.counts(), counts);
     }

@@ -230,7 +230,9 @@ fn realtime_pacing_gives_the_same_run() {
             "wall_s",
             "searches_taken_over",
             "searches_taken_over_in_part",
+            "searches_taken_over_after",
             "searches_recorded",
+            "searches_recorded_after",
         ] {
             assert!(o.remove(key).is_some(), "{key} reported");
         }

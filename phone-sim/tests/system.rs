@@ -392,11 +392,14 @@ fn tempo_on_every_core_runs_as_on_one() {
 /// before them where the map reads the same (`phone_sim::memo`) run
 /// exactly as when each robot searches for itself, on rooms, a maze and
 /// a random field (the maze's searches jump along corridors); and most
-/// searches are taken over.
+/// searches, and most rests of searches grown in later rounds, are taken
+/// over.
 #[test]
 fn searches_taken_over_from_a_memo_change_no_run() {
     static CORES: phone_sim::cores::HostCores = phone_sim::cores::HostCores::new();
     let mut in_part = 0;
+    // Rests of searches taken over, written down.
+    let mut rests = (0, 0);
     // On the maze, a team of 16 soon has fewer frontier nodes than robots,
     // and the endgame searches backwards instead: eight robots run there.
     for (kind, size, k) in [
@@ -423,10 +426,20 @@ fn searches_taken_over_from_a_memo_change_no_run() {
             "{}: {took} taken over, {wrote} written down",
             f.name()
         );
+        // The rests grown in later rounds too: on the maze, with eight
+        // robots, about two in five of them.
+        let took = after.after - before.after;
+        assert!(took > 0, "{}: no rest taken over", f.name());
+        rests.0 += took;
+        rests.1 += after.recorded_after - before.recorded_after;
         in_part += after.in_part - before.in_part;
     }
     // Plain searches (rooms, random) are taken over in part too.
     assert!(in_part > 0, "none taken over in part");
+    assert!(
+        rests.0 > rests.1,
+        "rests: {rests:?} taken over, written down"
+    );
 }
 
 /// Sixteen robots with tempo's far shares kept beside busy team mates

@@ -25,6 +25,19 @@
 //! queues. Resumed from there, it goes on as the fresh search would.
 //!
 //! A plain search can be taken over in part too: see `part`.
+//!
+//! ## The rest of a search
+//!
+//! A decision grows some team mates' picks in later rounds, resuming
+//! their fields, and the next decision grows them alike. Where a field
+//! stands at the end of a kept record, the rest it is resumed for is
+//! written down too ([`DistField::resume_written_down`]): what it reached
+//! and read, the cells it wrote, the entries its queues received and
+//! where it stopped. A field that stands at the same end (it took that
+//! record over, or wrote it down) takes a rest that reads the same over
+//! ([`DistField::take_over_after`]) for the same reason a whole search is
+//! exact: the rest's reads and the state it started from are all it
+//! depends on. It costs the cells the rest wrote, not the whole field.
 
 use super::corridor::{Jumps, other_arm};
 use super::scratch::{DIST_MASK, Dirty, Queues};
@@ -103,6 +116,9 @@ pub struct SearchState {
     /// Whether the record holds its queues' last entries
     /// ([`RecordedSearch::queued`]), so that it can be taken over in part.
     history: bool,
+    /// Of a record that goes on from another: where the queues stood
+    /// when it began, which the field that takes it over must match.
+    from: Option<Queues>,
 }
 
 impl SearchState {
@@ -115,6 +131,16 @@ impl SearchState {
 /// A recorded search, as a [`SearchMemo`] hands it back.
 #[derive(Clone, Copy, Debug)]
 pub struct RecordedSearch<'a> {
+    /// The memo's name for it, never 0: a field that stands where it
+    /// stopped can ask for a record that goes on from there
+    /// ([`SearchMemo::recall_after`]).
+    pub id: u64,
+    /// The record where this one goes on ([`SearchMemo::record_after`]),
+    /// or 0 for a whole search. A record that goes on holds only what its
+    /// own part reached and read, the cells that part wrote, and where
+    /// the search stands after it: it is taken over only by a field that
+    /// stands where the other stopped ([`DistField::take_over_after`]).
+    pub after: u64,
     /// Every node it reached, in order.
     pub reached: &'a [Reached],
     /// Nodes it read without reaching them, with what it read of each
@@ -126,6 +152,7 @@ pub struct RecordedSearch<'a> {
     /// The last entries its edge queue and its turn queue received, in
     /// order, up to the queue's size (a plain search's; a jumping one
     /// keeps none): its queues at any time late enough are a run of them.
+    /// The rest of a search keeps those it received, plain or jumping.
     pub queued: [&'a [u32]; 2],
     /// Its queues and box.
     pub state: &'a SearchState,
@@ -142,6 +169,10 @@ pub trait SearchRecorder {
     /// The next entry its edge queue (`ring` 0) or turn queue (1)
     /// received (see [`RecordedSearch::queued`]).
     fn queued(&mut self, ring: usize, entry: u32);
+    /// The cells told so far, to be given their contents: a search that
+    /// goes on from a record tells which cells it writes as it writes
+    /// them, and what they hold once it stopped.
+    fn cells(&mut self) -> &mut [(u32, PlanCell)];
     /// The search is written down whole: without this call it is dropped.
     fn finish(&mut self, state: SearchState);
 }
@@ -156,8 +187,29 @@ pub trait SearchMemo: Sync {
     /// it returns true; whether one did.
     fn recall(&self, key: SearchKey, take: &mut dyn FnMut(RecordedSearch<'_>) -> bool) -> bool;
     /// Writes a search down: `search` runs it, telling the recorder it is
-    /// handed what it reaches, its cells and its state.
-    fn record(&self, key: SearchKey, search: &mut dyn FnMut(&mut dyn SearchRecorder));
+    /// handed what it reaches, its cells and its state. The record's id,
+    /// where it is kept.
+    fn record(
+        &self,
+        key: SearchKey,
+        search: &mut dyn FnMut(&mut dyn SearchRecorder),
+    ) -> Option<u64>;
+    /// Hands `take` the records that go on where record `after` stopped,
+    /// newest first, until it returns true; whether one did.
+    fn recall_after(&self, after: u64, take: &mut dyn FnMut(RecordedSearch<'_>) -> bool) -> bool;
+    /// Writes down the rest of a search that goes on where the kept record
+    /// `after` stopped (a field that took it over, or wrote it down,
+    /// resumed; see [`DistField::resume_written_down`]). A later decision
+    /// whose field stands there takes it over instead of resuming: in a
+    /// team, the rounds that grow a team mate's picks repeat from decision
+    /// to decision as its first search does. `search` runs whether or not
+    /// the record is kept; its id, where it is.
+    fn record_after(
+        &self,
+        key: SearchKey,
+        after: u64,
+        search: &mut dyn FnMut(&mut dyn SearchRecorder),
+    ) -> Option<u64>;
     /// The search `recall` just handed over was taken over in part
     /// ([`DistField::take_over_before`]), for the memo's counts.
     fn taken_over_in_part(&self) {}
@@ -257,6 +309,19 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         result
     }
 
+    /// Whether this field holds a forward search from a start that `map`
+    /// vouched for, plain or jumping, unmarked: one that can be written
+    /// down.
+    fn recordable<M: AsRef<[Block]> + AsMut<[Block]>>(&self, map: &KnownMap<M>) -> bool {
+        self.tree == Some(map.revision())
+            && self.bounds == map.bounds()
+            && !self.weighted
+            && self.reverse.is_none()
+            && self.rev_open.is_none()
+            && self.way.is_none()
+            && self.memo.is_none()
+    }
+
     /// [`DistField::write_down`], the corridors walked again only if
     /// `walks` (the search did not tell the recorder as it went).
     fn write_down_walking<M: AsRef<[Block]> + AsMut<[Block]>>(
@@ -268,14 +333,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let Some(key) = self.key() else {
             return false;
         };
-        let usable = self.tree == Some(map.revision())
-            && self.bounds == map.bounds()
-            && !self.weighted
-            && self.reverse.is_none()
-            && self.rev_open.is_none()
-            && self.way.is_none()
-            && self.memo.is_none();
-        if !usable {
+        if !self.recordable(map) {
             return false;
         }
         let cells = self.cells.as_ref();
@@ -324,6 +382,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             jumps: self.jumps.clone(),
             key,
             history,
+            from: None,
         });
         true
     }
@@ -378,8 +437,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// record's kind ([`DistField::compute`] or
     /// [`DistField::compute_jumping`]) from the same pose would have left
     /// had its callback stopped where the recorded one did; resume it to
-    /// go on. A record of another window, scratch size or timing is
-    /// refused with [`PlanError::OutOfBounds`] of its start.
+    /// go on. A record of another window, scratch size or timing, or the
+    /// rest of a search ([`RecordedSearch::after`]), is refused with
+    /// [`PlanError::OutOfBounds`] of its start.
     pub fn take_over<M: AsRef<[Block]> + AsMut<[Block]>>(
         &mut self,
         map: &KnownMap<M>,
@@ -389,7 +449,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let key = rec.state.key;
         let b = map.bounds();
         let (start, heading) = (b.pos(key.start), Heading::from_index(key.heading));
-        if self.search_key(map, timing, (start, heading), key.jumping) != Some(key) {
+        // The rest of a search (see `take_over_after`) is no whole one.
+        let whole = rec.state.from.is_none();
+        if !whole || self.search_key(map, timing, (start, heading), key.jumping) != Some(key) {
             return Err(PlanError::OutOfBounds(start));
         }
         self.tree = None;
@@ -427,6 +489,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
 }
 
 mod part;
+mod rest;
 
 pub use part::first_read_otherwise;
 

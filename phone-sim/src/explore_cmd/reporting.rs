@@ -94,8 +94,14 @@ pub struct Report {
     /// Of those, the searches taken over in part: up to the first node
     /// that read otherwise, searched on from there.
     pub searches_taken_over_in_part: u64,
+    /// Rests of searches taken over: later rounds of a team mate's picks
+    /// that went on where its field stood (`SearchMemo::record_after`).
+    pub searches_taken_over_after: u64,
     /// Searches written down into the memo, since the process started.
     pub searches_recorded: u64,
+    /// Rests of searches written down: later rounds of a team mate's
+    /// picks, resumed where a kept record stopped.
+    pub searches_recorded_after: u64,
     /// Per robot.
     pub per_robot: Vec<RobotReport>,
 }
@@ -141,7 +147,9 @@ pub fn report(field: &Field, a: &ExploreArgs, timing: Timing, o: &Outcome, wall_
         wall_s,
         searches_taken_over: memo.taken_over,
         searches_taken_over_in_part: memo.in_part,
+        searches_taken_over_after: memo.after,
         searches_recorded: memo.recorded,
+        searches_recorded_after: memo.recorded_after,
         per_robot: o
             .robots
             .iter()
@@ -258,10 +266,13 @@ fn print_report(
     );
     if r.searches_taken_over + r.searches_recorded > 0 {
         crate::outln!(
-            "team-mate searches: {} taken over ({} in part), {} written down",
+            "team-mate searches: {} taken over ({} in part), {} written down; \
+             rests of them: {} taken over, {} written down",
             r.searches_taken_over,
             r.searches_taken_over_in_part,
-            r.searches_recorded
+            r.searches_recorded,
+            r.searches_taken_over_after,
+            r.searches_recorded_after
         );
     }
     crate::outln!(

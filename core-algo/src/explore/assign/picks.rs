@@ -6,8 +6,8 @@ use super::INF;
 use crate::explore::{Context, MAX_ROBOTS, RobotView, Workers};
 use crate::map::Block;
 use crate::path::{
-    DistField, Flow, PlanCell, PlanError, Reached, RecordedSearch, SearchMemo, node_mark,
-    reads_same,
+    DistField, Flow, PlanCell, PlanError, Reached, RecordedSearch, SearchKey, SearchMemo,
+    node_mark, reads_same,
 };
 use crate::timing::Ticks;
 
@@ -46,6 +46,10 @@ pub(super) struct Picks {
     /// Frontier nodes its field has not reached yet.
     unseen: usize,
     started: bool,
+    /// The kept record (its key and id) whose end the field stands at:
+    /// the next round takes over a record that went on from there, or
+    /// writes its own down as one (see [`Picks::go_on`]).
+    at: Option<(SearchKey, u64)>,
 }
 
 /// What a robot's picks rank the nodes their search reaches by (see
@@ -77,6 +81,7 @@ impl Picks {
             want: want.clamp(1, PICKS),
             unseen: usize::MAX,
             started: false,
+            at: None,
         }
     }
 
@@ -139,7 +144,7 @@ impl Picks {
         };
         let (timing, pos, heading) = (ctx.timing, r.pos, r.heading);
         if !start {
-            return field.resume(map, |i, d| self.reach(map, &to, i, d));
+            return self.go_on(map, &to, field, memo);
         }
         let jumping = jumps_pay(map);
         let key = field.search_key(map, timing, (pos, heading), jumping);
@@ -151,20 +156,28 @@ impl Picks {
             };
         };
         let fresh = *self;
-        let mut result = Ok(());
+        let mut taken = Ok(true);
         let found = memo.recall(key, &mut |rec| {
             *self = fresh;
             match self.take_over(map, &to, field, (timing, rec)) {
                 Some(r) => {
-                    result = r;
+                    self.at = Some((key, rec.id));
+                    taken = r;
                     true
                 }
                 None => false,
             }
         });
         if found {
-            return result;
+            // Picks that go on past the record's end go on as a later
+            // round does.
+            return match taken {
+                Ok(true) => Ok(()),
+                Ok(false) => self.go_on(map, &to, field, Some(memo)),
+                Err(e) => Err(e),
+            };
         }
+        let mut result = Ok(());
         // None stands where a search of their own would: take one over in
         // part, up to the first node that reads otherwise or that the picks
         // stop at, where that spares at least half of its search
@@ -204,7 +217,7 @@ impl Picks {
                     return true;
                 }
             }
-            memo.record(key, &mut |out| {
+            let end = memo.record(key, &mut |out| {
                 for x in head {
                     out.reached(*x);
                 }
@@ -216,33 +229,109 @@ impl Picks {
                     field.write_down(map, out);
                 }
             });
+            self.at = end.map(|id| (key, id));
             true
         });
         if found {
             return result;
         }
         *self = fresh;
-        memo.record(key, &mut |rec| {
+        let end = memo.record(key, &mut |rec| {
             let pose = (pos, heading, jumping);
             result = field
                 .compute_written_down(map, timing, pose, rec, |i, d| self.reach(map, &to, i, d));
         });
+        self.at = end.map(|id| (key, id));
         result
+    }
+
+    /// Resumes the field where its search stopped. Where that is the end
+    /// of a kept record, a record that went on from there is taken over
+    /// instead, if it reads the same and these picks, told what it reached
+    /// after that end, stop where it stopped or go on past it (then on from
+    /// its end); else the search goes on, written down as such a record.
+    /// Either way is exact for the reason a search taken over whole is
+    /// (see `path::record`).
+    fn go_on<M, F>(
+        &mut self,
+        map: &crate::map::KnownMap<M>,
+        to: &Reach<'_, impl Fn(usize, usize, Ticks) -> Option<i64>, impl Fn(usize, Ticks) -> i64>,
+        field: &mut DistField<F>,
+        memo: Option<&dyn SearchMemo>,
+    ) -> Result<(), PlanError>
+    where
+        M: AsRef<[Block]> + AsMut<[Block]>,
+        F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+    {
+        loop {
+            let (Some(memo), Some((key, at))) = (memo, self.at.take()) else {
+                return field.resume(map, |i, d| self.reach(map, to, i, d));
+            };
+            let fresh = *self;
+            let mut stopped = true;
+            let found = memo.recall_after(at, &mut |rec| {
+                *self = fresh;
+                match self.take_over_after(map, to, field, rec) {
+                    Some(stop) => {
+                        self.at = Some((key, rec.id));
+                        stopped = stop;
+                        true
+                    }
+                    None => false,
+                }
+            });
+            if found {
+                if stopped {
+                    return Ok(());
+                }
+                continue;
+            }
+            *self = fresh;
+            let mut result = Ok(());
+            let id = memo.record_after(key, at, &mut |out| {
+                result = field.resume_written_down(map, out, |i, d| self.reach(map, to, i, d));
+            });
+            self.at = id.map(|id| (key, id));
+            return result;
+        }
     }
 
     /// Takes the recorded search `rec` over into `field` if its nodes read
     /// the same in `map` and these picks, told what it reached in order,
     /// stop where it stopped or go on past it: then they are what a search
     /// of their own would have found, and the field is where that search
-    /// would stand (see `path::record`). `None` if not; the picks are then
-    /// spoilt, and the caller starts them again.
+    /// would stand (see `path::record`). Whether the picks stopped there;
+    /// `None` if not taken over; the picks are then spoilt, and the
+    /// caller starts them again.
     fn take_over<M, F>(
         &mut self,
         map: &crate::map::KnownMap<M>,
         to: &Reach<'_, impl Fn(usize, usize, Ticks) -> Option<i64>, impl Fn(usize, Ticks) -> i64>,
         field: &mut DistField<F>,
         (timing, rec): (crate::timing::Timing, RecordedSearch<'_>),
-    ) -> Option<Result<(), PlanError>>
+    ) -> Option<Result<bool, PlanError>>
+    where
+        M: AsRef<[Block]> + AsMut<[Block]>,
+        F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+    {
+        if rec.after != 0 || !reads_same(map, rec) {
+            return None;
+        }
+        let stop = self.told(map, to, rec)?;
+        Some(field.take_over(map, timing, rec).map(|()| stop))
+    }
+
+    /// [`Picks::take_over`] of the rest of a search that went on where
+    /// the field stands ([`DistField::take_over_after`]): whether the
+    /// picks stopped where it did, `None` if not taken over (the picks
+    /// are then spoilt).
+    fn take_over_after<M, F>(
+        &mut self,
+        map: &crate::map::KnownMap<M>,
+        to: &Reach<'_, impl Fn(usize, usize, Ticks) -> Option<i64>, impl Fn(usize, Ticks) -> i64>,
+        field: &mut DistField<F>,
+        rec: RecordedSearch<'_>,
+    ) -> Option<bool>
     where
         M: AsRef<[Block]> + AsMut<[Block]>,
         F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
@@ -250,6 +339,20 @@ impl Picks {
         if !reads_same(map, rec) {
             return None;
         }
+        let stop = self.told(map, to, rec)?;
+        field.take_over_after(map, rec).then_some(stop)
+    }
+
+    /// Tells these picks what `rec` reached, in order: `None` if they
+    /// stop before its last node, or at it where the recorded search went
+    /// on and ran out (a search of their own would stop with its last
+    /// state not expanded yet); else whether they stopped.
+    fn told<M: AsRef<[Block]> + AsMut<[Block]>>(
+        &mut self,
+        map: &crate::map::KnownMap<M>,
+        to: &Reach<'_, impl Fn(usize, usize, Ticks) -> Option<i64>, impl Fn(usize, Ticks) -> i64>,
+        rec: RecordedSearch<'_>,
+    ) -> Option<bool> {
         let (last, before) = rec.reached.split_last()?;
         for x in before {
             if self.reach(map, to, x.node as usize, x.dist) == Flow::Stop {
@@ -257,19 +360,10 @@ impl Picks {
             }
         }
         let stop = self.reach(map, to, last.node as usize, last.dist) == Flow::Stop;
-        // A search of their own would stop here with its last state not
-        // expanded yet; the recorded one went on and ran out.
         if stop && rec.state.ran_out() {
             return None;
         }
-        if let Err(e) = field.take_over(map, timing, rec) {
-            return Some(Err(e));
-        }
-        Some(if stop {
-            Ok(())
-        } else {
-            field.resume(map, |i, d| self.reach(map, to, i, d))
-        })
+        Some(stop)
     }
 
     /// The picks' answer to their search reaching node `i` at travel `d`:

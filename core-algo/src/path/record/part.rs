@@ -21,7 +21,8 @@ use crate::timing::{Ticks, Timing};
 impl RecordedSearch<'_> {
     /// Whether it can be taken over in part
     /// ([`DistField::take_over_before`]): a plain search's, that holds
-    /// its queues' last entries.
+    /// its queues' last entries (the rest of one holds none, see
+    /// [`RecordedSearch::after`]).
     pub fn holds_queues(&self) -> bool {
         self.state.history
     }
@@ -116,7 +117,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         }
         self.tree = None;
         self.prepare(map, timing, start, heading)?;
-        if !rec.state.history {
+        if !rec.holds_queues() {
             return Ok(false);
         }
         let t = self.timing;

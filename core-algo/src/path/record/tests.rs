@@ -32,6 +32,9 @@ impl SearchRecorder for Written {
     fn queued(&mut self, ring: usize, entry: u32) {
         self.queued[ring].push(entry);
     }
+    fn cells(&mut self) -> &mut [(u32, PlanCell)] {
+        &mut self.cells
+    }
     fn finish(&mut self, state: SearchState) {
         self.state = Some(state);
     }
@@ -40,6 +43,8 @@ impl SearchRecorder for Written {
 impl Written {
     fn rec(&self) -> RecordedSearch<'_> {
         RecordedSearch {
+            id: 1,
+            after: 0,
             reached: &self.reached,
             read: &self.read,
             cells: &self.cells,
@@ -154,6 +159,37 @@ fn two_maps(
     )
 }
 
+/// A property test's draw: the window, its two maps (see [`two_maps`]),
+/// the timing, and a start pose among the first map's known nodes.
+type Drawn = (
+    Bounds,
+    KnownMap<Vec<Block>>,
+    KnownMap<Vec<Block>>,
+    Timing,
+    (Pos, Heading),
+);
+
+/// See [`Drawn`].
+fn drawn(
+    (w, h): (u16, u16),
+    (seed, maze): (u64, bool),
+    (known, other): (usize, usize),
+    (pick, heading): (usize, u8),
+    (edge, turn): (u32, u32),
+) -> Drawn {
+    let b = Bounds::new(Pos::new(0, 0), w, h);
+    let (order, a, other) = two_maps(b, (seed, maze), (known, other));
+    let t = Timing {
+        edge,
+        quarter_turn: turn,
+    };
+    let start = (
+        b.pos(order[pick % known.min(order.len())]),
+        Heading::from_index(heading),
+    );
+    (b, a, other, t, start)
+}
+
 /// A search's callback that notes what it reaches in `out`, in order,
 /// and stops after `stop` nodes.
 fn noted(out: &mut Vec<(usize, Ticks)>, stop: usize) -> impl FnMut(usize, Ticks) -> Flow + '_ {
@@ -198,11 +234,9 @@ proptest! {
         stop in 0usize..256, edge in 1u32..200, turn in 1u32..128, before in any::<usize>(),
         jumping in any::<bool>(), told in any::<bool>(),
     ) {
-        let b = Bounds::new(Pos::new(0, 0), w, h);
+        let (b, a, other, t, start) =
+            drawn((w, h), (seed, maze), (known, other), (pick, heading), (edge, turn));
         let area = b.area();
-        let (order, a, other) = two_maps(b, (seed, maze), (known, other));
-        let t = Timing { edge, quarter_turn: turn };
-        let start = (b.pos(order[pick % known.min(order.len())]), Heading::from_index(heading));
         let written = fits(if told {
             write_as_told(&mut field_for(area), &a, t, (start, jumping), stop)
         } else {
@@ -212,11 +246,7 @@ proptest! {
             return Ok(());
         }
         let mut fresh = field_for(area);
-        let mut n = 0;
-        fits(search(&mut fresh, &other, t, (start, jumping), |_, _| {
-            n += 1;
-            if n > stop { Flow::Stop } else { Flow::Continue }
-        }))?;
+        fits(search(&mut fresh, &other, t, (start, jumping), noted(&mut Vec::new(), stop)))?;
         let mut taken = field_for(area);
         let was = b.pos(before % area);
         fits(search(&mut taken, &a, t, ((was, Heading::North), !jumping), |_, _| Flow::Continue))?;
@@ -536,3 +566,5 @@ fn only_a_forward_search_on_its_own_map_is_written_down() {
         assert!(f.write_down(&map, &mut w));
     }
 }
+
+mod rest;
