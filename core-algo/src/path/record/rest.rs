@@ -8,12 +8,12 @@ use crate::path::{DistField, Flow, PlanCell, PlanError};
 use crate::timing::Ticks;
 
 impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
-    /// [`DistField::resume`] written down as the rest of the search
-    /// ([`SearchMemo::record_after`](super::SearchMemo::record_after)): `rec` is told every node it reaches
-    /// and every node its corridor walks read, the cells it writes (those
-    /// of the states it settles and of the state it expands first) with
-    /// what they hold at the end, the entries its queues receive, and
-    /// where the search then stands. A field that is not a forward
+    /// [`DistField::resume`] written down as the rest of the search (see
+    /// [`SearchMemo::record_after`](super::SearchMemo::record_after)):
+    /// `rec` is told every node it reaches and every node its corridor
+    /// walks read, the cells it writes (those of the states it settles and
+    /// of the state it expands first) with what they hold at the end, the
+    /// entries its queues receive, and where the search then stands. A field that is not a forward
     /// search from a start its map vouched for is resumed and not written
     /// down.
     pub fn resume_written_down<M: AsRef<[Block]> + AsMut<[Block]>>(
@@ -112,7 +112,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                 from.b_pushed,
             )
             && q.pending == from.pending;
-        if !stands || self.key() != Some(rec.state.key) || self.tree != Some(map.revision()) {
+        let forward = !self.weighted && self.reverse.is_none() && self.rev_open.is_none();
+        let same = self.key() == Some(rec.state.key) && self.tree == Some(map.revision());
+        if !(stands && forward && same) {
             return false;
         }
         self.unmark_way(map);
