@@ -327,9 +327,8 @@ mod tests {
     use core_algo::team::RobotId;
     use core_algo::timing::Timing;
 
-    /// Records `n` searches from one pose, each stopped one node later
-    /// than the one before; what `recall` hands back, as node counts.
-    fn kept(n: usize) -> (HostMemo, Vec<usize>) {
+    /// A corridor 12 nodes long, known whole; a timing; a field for it.
+    fn corridor() -> (KnownMap<Vec<Block>>, Timing, DistField<Vec<PlanCell>>) {
         let b = Bounds::new(Pos::new(0, 0), 12, 1);
         let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).unwrap();
         for x in 0..12 {
@@ -342,7 +341,71 @@ mod tests {
             edge: 10,
             quarter_turn: 5,
         };
-        let mut f = DistField::new(vec![PlanCell::EMPTY; min_cells(b.area())]);
+        let f = DistField::new(vec![PlanCell::EMPTY; min_cells(b.area())]);
+        (map, t, f)
+    }
+
+    /// A search's callback that stops after `stop` nodes.
+    fn until(stop: usize) -> impl FnMut(usize, u32) -> Flow {
+        let mut seen = 0;
+        move |_, _| {
+            seen += 1;
+            if seen > stop {
+                Flow::Stop
+            } else {
+                Flow::Continue
+            }
+        }
+    }
+
+    /// The rests of a search are kept by the record they go on from,
+    /// newest first, and never handed back as whole searches.
+    #[test]
+    fn rests_are_kept_by_the_record_they_go_on_from() {
+        let (map, t, mut f) = corridor();
+        let pose = (Pos::new(0, 0), Heading::East);
+        let key = f.search_key(&map, t, pose, false).unwrap();
+        let memo = HostMemo::new();
+        let first = memo.record(key, &mut |rec| {
+            f.compute_written_down(&map, t, (pose.0, pose.1, false), rec, until(1))
+                .unwrap();
+        });
+        let first = first.expect("kept");
+        for more in 0..5 {
+            f.compute(&map, t, pose.0, pose.1, until(1)).unwrap();
+            let rest = memo.record_after(key, first, &mut |rec| {
+                f.resume_written_down(&map, rec, until(more)).unwrap();
+            });
+            assert!(rest.is_some_and(|id| id != first));
+        }
+        let mut lens = Vec::new();
+        memo.recall_after(first, &mut |r| {
+            assert_eq!(r.after, first);
+            lens.push(r.reached.len());
+            false
+        });
+        assert_eq!(lens, vec![5, 4, 3, 2]);
+        let mut whole = Vec::new();
+        memo.recall(key, &mut |r| {
+            whole.push((r.id, r.after));
+            true
+        });
+        assert_eq!(whole, vec![(first, 0)]);
+        assert!(!memo.recall_after(first + 100, &mut |_| true));
+        let counts = MemoCounts {
+            taken_over: 1,
+            in_part: 0,
+            after: 0,
+            recorded: 1,
+            recorded_after: 5,
+        };
+        assert_eq!(memo.counts(), counts);
+    }
+
+    /// Records `n` searches from one pose, each stopped one node later
+    /// than the one before; what `recall` hands back, as node counts.
+    fn kept(n: usize) -> (HostMemo, Vec<usize>) {
+        let (map, t, mut f) = corridor();
         let pose = (Pos::new(0, 0), Heading::East);
         let key = f.search_key(&map, t, pose, false).unwrap();
         let memo = HostMemo::new();
