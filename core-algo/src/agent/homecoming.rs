@@ -499,6 +499,13 @@ where
             .collect();
         // Spots we cannot reach: the way from here runs through a team mate.
         let mut unreachable: Vec<usize, 4> = Vec::new();
+        // Whether `mine` still holds this decision's search from home,
+        // stopped at a spot found unreachable: the next spot is then the
+        // next free node that search reports, so it goes on instead of
+        // starting over (every node before that spot was not free, and a
+        // spot set aside as unreachable makes none free). Starting over
+        // was three searches in four of the gated robots in a maze.
+        let mut searching = false;
         loop {
             let free = |v: usize| {
                 v != my_home
@@ -508,7 +515,7 @@ where
                     && !unreachable.contains(&v)
             };
             let mut spot = None;
-            let mut first = true;
+            let mut first = !searching;
             let found = loop {
                 let mut reached = |v: usize, _| {
                     if free(v) {
@@ -539,6 +546,7 @@ where
             // homes next to ours filling first and every spot beyond them
             // taken or cut off by the team mates coming home, we stood in
             // their corridor for good (hunt seed 2423).
+            searching = found.is_ok() && spot.is_some();
             let found = match (found, spot) {
                 (Ok(()), None) => mine.compute_avoiding(
                     map,
@@ -603,6 +611,7 @@ where
                     }
                     // Near the spot, a plain search; from afar only if a way
                     // broke off, then A* guided by the way home.
+                    searching = false;
                     match guide {
                         Some(l) => mine
                             .astar_by_landmark(map, timing, pos, heading, spot, l)
