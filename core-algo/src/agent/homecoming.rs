@@ -452,7 +452,7 @@ where
         // throw away at every step of a gated robot.
         let (rest, spare) = rest.split_at_mut(MAX_ROBOTS.min(rest.len()));
         let (mine, first) = match spare.first_mut() {
-            Some(f) => (f, Some(&*mine)),
+            Some(f) => (f, Some(mine)),
             None => (mine, None),
         };
         let rest = &*rest;
@@ -462,6 +462,21 @@ where
         // and a plain search from where we stand grew over everything
         // nearer than the spot (most of a gated robot's time in a maze).
         let home = self.home;
+        // Far from home our own way home is marked in it, so that asking
+        // whether the way to a spot passes a team mate walks only the
+        // spot's way (see `DistField::descents_meet_passing`). As we drive
+        // along it, the marks slide on with us.
+        let first = first.map(|f| {
+            let far = GUIDED_FROM_EDGES.saturating_mul(timing.edge);
+            if f.dist_pose(pos, heading).is_some_and(|d| d > far)
+                && f.is_reverse_to(map, timing, home)
+            {
+                if let Some(at) = bounds.index(pos) {
+                    f.mark_descent(map, at, heading);
+                }
+            }
+            &*f
+        });
         let landmark = first
             .into_iter()
             .chain(rest.iter())

@@ -38,7 +38,8 @@ proptest! {
 
     /// In a perfect maze the two walks answer exactly for the only way
     /// between the two nodes, whatever the headings and the timing; on
-    /// any map they answer, and with no nodes to look for, say none.
+    /// any map they answer, and with no nodes to look for, say none;
+    /// with the first way marked they answer alike.
     #[test]
     fn meeting_descents_answer_for_the_way_between(
         w in 1u16..10, h in 1u16..10, seed in any::<u64>(), tree in any::<bool>(),
@@ -61,6 +62,19 @@ proptest! {
         let got = r.descents_meet_passing(&map, a, bp, &vias);
         prop_assert!(got.is_some());
         prop_assert_eq!(r.descents_meet_passing(&map, a, bp, &[]), Some(false));
+        // With `a`'s way marked, only `b`'s is walked (where an edge costs
+        // more than a U-turn), and the answer is the same on any map, for
+        // these nodes and for each node alone.
+        let each: Vec<_> = reachable
+            .iter()
+            .map(|&x| r.descents_meet_passing(&map, a, bp, &[x]))
+            .collect();
+        prop_assert!(r.mark_descent(&map, va, Heading::from_index(ha)));
+        prop_assert_eq!(r.descents_meet_passing(&map, a, bp, &vias), got);
+        prop_assert_eq!(r.descents_meet_passing(&map, a, bp, &[]), Some(false));
+        for (&x, &want) in reachable.iter().zip(&each) {
+            prop_assert_eq!(r.descents_meet_passing(&map, a, bp, &[x]), want, "node {}", x);
+        }
         if tree {
             let way = tree_way(b, &arms, va, vb);
             let want = vias.contains(&vb) || way.iter().any(|v| vias.contains(v));
