@@ -451,32 +451,34 @@ where
         // strategy keeps (`explore::go_home`), which a search here would
         // throw away at every step of a gated robot.
         let (rest, spare) = rest.split_at_mut(MAX_ROBOTS.min(rest.len()));
-        let (mine, first) = match spare.first_mut() {
+        let (mine, mut first) = match spare.first_mut() {
             Some(f) => (f, Some(mine)),
             None => (mine, None),
         };
-        let rest = &*rest;
         // The way home the strategy keeps (a reverse field rooted at our
         // home, see `explore::go_home`) guides the search of the way to a
         // spot near home: far from home, that way runs along the way home,
         // and a plain search from where we stand grew over everything
         // nearer than the spot (most of a gated robot's time in a maze).
+        // Tempo keeps it in our own field of the team's (robot `me`'s),
+        // which is among `rest`; others in the first.
         let home = self.home;
         // Far from home our own way home is marked in it, so that asking
         // whether the way to a spot passes a team mate walks only the
         // spot's way (see `DistField::descents_meet_passing`). As we drive
         // along it, the marks slide on with us.
-        let first = first.map(|f| {
-            let far = GUIDED_FROM_EDGES.saturating_mul(timing.edge);
-            if f.dist_pose(pos, heading).is_some_and(|d| d > far)
-                && f.is_reverse_to(map, timing, home)
-            {
-                if let Some(at) = bounds.index(pos) {
-                    f.mark_descent(map, at, heading);
-                }
+        let far = GUIDED_FROM_EDGES.saturating_mul(timing.edge);
+        let way_home = first
+            .as_deref_mut()
+            .into_iter()
+            .chain(rest.iter_mut())
+            .find(|f| f.is_reverse_to(map, timing, home));
+        if let (Some(f), Some(at)) = (way_home, bounds.index(pos)) {
+            if f.dist_pose(pos, heading).is_some_and(|d| d > far) {
+                f.mark_descent(map, at, heading);
             }
-            &*f
-        });
+        }
+        let (first, rest) = (first.map(|f| &*f), &*rest);
         let landmark = first
             .into_iter()
             .chain(rest.iter())
