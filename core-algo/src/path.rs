@@ -599,6 +599,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
 }
 
 mod astar;
+mod copy;
 mod corridor;
 mod descent;
 mod exits;

@@ -51,5 +51,6 @@ pub mod qemu;
 pub mod render;
 pub mod sensor_world;
 pub mod serve;
+pub mod shared_fields;
 pub mod sim;
 pub mod world;

@@ -346,6 +346,7 @@ where
         // every returning team mate.
         let mut pending: Vec<(usize, (usize, Heading), bool), MAX_ROBOTS> = Vec::new();
         let peers = &self.peers;
+        let shared = self.shared;
         let homes: Vec<Pos, MAX_ROBOTS> = peers
             .iter()
             .enumerate()
@@ -389,9 +390,16 @@ where
                     continue;
                 };
                 let kept = field.is_reverse_to(map, timing, p.home)
+                    || shared.is_some_and(|s| s.recall_reverse(map, timing, p.home, field))
                     || field
                         .compute_reverse(map, timing, p.home, |_, _, _| Flow::Continue)
-                        .is_ok();
+                        .is_ok()
+                        && {
+                            if let Some(s) = shared {
+                                s.keep_reverse(map, timing, p.home, field);
+                            }
+                            true
+                        };
                 if kept {
                     let _ = pending.push((slot, (at, p.heading), first));
                 }

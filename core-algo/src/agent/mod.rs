@@ -46,8 +46,10 @@ mod homecoming;
 mod io;
 mod localizing;
 mod retreat;
+mod shared;
 
 pub use io::{AgentConfig, AgentError, Command, Event, ManualOrder, Mode, PeerNews};
+pub use shared::SharedFields;
 #[cfg(test)]
 mod tests;
 
@@ -119,7 +121,7 @@ struct Retreat {
 /// `K` planner fields: one is enough for decentralised strategies (the
 /// firmware's choice, 16 bytes per node each); centralised ones (assignment,
 /// tempo) plan for the whole team and want one per robot.
-pub struct Agent<M, F, S, const K: usize> {
+pub struct Agent<M: 'static, F: 'static, S, const K: usize> {
     id: RobotId,
     config: AgentConfig,
     map: KnownMap<M>,
@@ -162,6 +164,9 @@ pub struct Agent<M, F, S, const K: usize> {
     last_said: Millis,
     ignored: u32,
     localizer: Localizer,
+    /// Where a host keeps whole fields for every agent it runs (see
+    /// [`SharedFields`]); `None` on a robot.
+    shared: Option<&'static dyn SharedFields<M, F>>,
 }
 
 impl<M, F, S, const K: usize> Agent<M, F, S, K>
@@ -210,6 +215,18 @@ where
             last_said: 0,
             ignored: 0,
             localizer: Localizer::new(id),
+            shared: None,
+        }
+    }
+
+    /// The same agent, taking whole fields of the complete map from
+    /// `shared` and keeping those it searches there (see
+    /// [`SharedFields`]): the same decisions, sooner, on a host that runs
+    /// the whole team.
+    pub fn with_shared_fields(self, shared: &'static dyn SharedFields<M, F>) -> Self {
+        Agent {
+            shared: Some(shared),
+            ..self
         }
     }
 

@@ -1,0 +1,37 @@
+//! Whole fields of a complete map that a host running a whole team keeps
+//! for every agent: see [`SharedFields`].
+
+use crate::geometry::Pos;
+use crate::map::KnownMap;
+use crate::path::DistField;
+use crate::timing::Timing;
+
+/// Whole reverse fields to team mates' homes, kept by a host that runs
+/// every agent of a team (the simulator) so that each is searched once,
+/// not once per robot. A robot keeps none (it is its own host).
+///
+/// Once the map is complete every robot searches a whole reverse field to
+/// every returning team mate's home, to read the way it drives home
+/// (`Agent::keep_out_of_the_way`); the complete maps are alike, so the
+/// fields are too. On a 256² maze with 16 robots those searches were a
+/// fifth of the homecoming (docs/results/performance.md, stop 51).
+///
+/// A host hands a field over only for a map that reads exactly as the one
+/// it was searched on ([`crate::path::node_mark`] of every node), so what
+/// it holds never changes a decision (see
+/// [`DistField::copy_reverse_from`]).
+pub trait SharedFields<M, F>: Sync {
+    /// Makes `field` the whole reverse field to `goal` over `map` with
+    /// `timing`, if one is kept for a map that reads the same; whether it
+    /// did.
+    fn recall_reverse(
+        &self,
+        map: &KnownMap<M>,
+        timing: Timing,
+        goal: Pos,
+        field: &mut DistField<F>,
+    ) -> bool;
+    /// Keeps a copy of `field`, the whole reverse field to `goal` just
+    /// searched over `map` with `timing`.
+    fn keep_reverse(&self, map: &KnownMap<M>, timing: Timing, goal: Pos, field: &DistField<F>);
+}
