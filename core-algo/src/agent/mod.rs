@@ -120,7 +120,9 @@ struct Retreat {
 ///
 /// `K` planner fields: one is enough for decentralised strategies (the
 /// firmware's choice, 16 bytes per node each); centralised ones (assignment,
-/// tempo) plan for the whole team and want one per robot.
+/// tempo) plan for the whole team and want one per robot. Their storage
+/// (`M`, `F`) lives for the whole program, as a robot's static buffers and
+/// a host's vectors do, so that a host's [`SharedFields`] can serve it.
 pub struct Agent<M: 'static, F: 'static, S, const K: usize> {
     id: RobotId,
     config: AgentConfig,
