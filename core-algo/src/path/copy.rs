@@ -16,9 +16,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// Makes this field a copy of `from`, a completed
     /// [`DistField::compute_reverse`] without marks, as if it had been
     /// searched over `map`. The caller vouches that `map` reads exactly as
-    /// the map `from` was searched over ([`node_mark`](super::node_mark) of every node): a
-    /// reverse search reads nothing else of the map,
-    /// so the copy is what a search over `map` would have left. Whether it
+    /// the map `from` was searched over ([`node_mark`](super::node_mark)
+    /// of every node): a reverse search reads nothing else of the map, so
+    /// the copy is what a search over `map` would have left. Whether it
     /// copied: `from` must be such a field, of the same window and scratch
     /// size as this one.
     pub fn copy_reverse_from<T, M>(&mut self, from: &DistField<T>, map: &KnownMap<M>) -> bool
