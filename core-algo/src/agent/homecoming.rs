@@ -391,15 +391,15 @@ where
                 };
                 let kept = field.is_reverse_to(map, timing, p.home)
                     || shared.is_some_and(|s| s.recall_reverse(map, timing, p.home, field))
-                    || field
-                        .compute_reverse(map, timing, p.home, |_, _, _| Flow::Continue)
-                        .is_ok()
-                        && {
-                            if let Some(s) = shared {
-                                s.keep_reverse(map, timing, p.home, field);
-                            }
-                            true
-                        };
+                    || {
+                        let searched = field
+                            .compute_reverse(map, timing, p.home, |_, _, _| Flow::Continue)
+                            .is_ok();
+                        if let (true, Some(s)) = (searched, shared) {
+                            s.keep_reverse(map, timing, p.home, field);
+                        }
+                        searched
+                    };
                 if kept {
                     let _ = pending.push((slot, (at, p.heading), first));
                 }
