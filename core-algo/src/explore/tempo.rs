@@ -46,7 +46,13 @@
 //! node with two known arms it can only go on or turn back, a fresh
 //! decision rarely changed its share, and deciding at every corridor node
 //! was a quarter of the decisions in a 16-robot maze, each over most of
-//! the map (`corridor_keeps_share`).
+//! the map (`corridor_keeps_share`). In teams of more than six, a robot
+//! that reaches its share and finds a corridor node there goes on to the
+//! frontier node ahead without re-assigning (`corridor_extends_team`):
+//! those were most of the decisions on reaching a share in a 16-robot
+//! maze, 40 % of its wall time at 256², and a fresh decision chose the
+//! node ahead anyway (the same makespans on every 16-robot maze measured;
+//! docs/results/performance.md, stop 52).
 //!
 //! In teams of more than six, a robot at least 24 edges (Manhattan) from
 //! its share keeps it too, whatever changed, while no team mate has
@@ -166,6 +172,12 @@ pub struct TempoConfig {
     /// measured neutral on small and 64² fields and 4–5 % shorter on large
     /// mazes (docs/results/performance.md, stop 26).
     pub corridor_keeps_share: bool,
+    /// With `keep_share`: in teams of more than this many robots, a robot
+    /// that reaches its share and finds a corridor node there, leading on
+    /// to a frontier node no team mate has announced, takes that node as
+    /// its next share without re-assigning the team
+    /// (`Commitment::onward`). Not exact, like `corridor_keeps_share`.
+    pub corridor_extends_team: usize,
     /// Teams of more than this many robots break ties between equally
     /// cheap assignments by a tie-break that every robot computes alike
     /// (see the module docs). Small
@@ -270,6 +282,7 @@ impl Default for TempoConfig {
             home_pull_pct: 25,
             share_slack: 0,
             corridor_keeps_share: true,
+            corridor_extends_team: 6,
             tie_break_team: 6,
             crowd_penalty_edges: 2,
             crowd_radius: 4,
@@ -340,6 +353,16 @@ where
         let kept = self.kept.get_mut(me).and_then(Option::take);
         let far = cfg.far_rule(ctx.map.bounds().area(), k);
         if let (true, Some(c)) = (cfg.keep_share, kept) {
+            if k > cfg.corridor_extends_team {
+                if let Some((i, h)) = c.onward(ctx) {
+                    let d = Decision {
+                        goal: super::Goal::Frontier(ctx.map.bounds().pos(i)),
+                        next: Some(h),
+                    };
+                    self.keep(ctx, Some(i), d);
+                    return Ok(d);
+                }
+            }
             if c.holds(ctx, cfg.share_slack, cfg.corridor_keeps_share, far) {
                 match (c.share(), fields.get_mut(me), ctx.my()) {
                     (None, ..) => {

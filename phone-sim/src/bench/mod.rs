@@ -64,7 +64,7 @@ pub fn strategy_on(name: &str, workers: &'static dyn Workers) -> Option<Box<DynS
         "minpos" => Box::new(MinPos),
         "tempo" => Box::new(Tempo::default().with_workers(workers)),
         other => {
-            // `tempo:<deduce edges>:<endgame 0|1>:<idle: 0 trail, 1 home, 2 stay>:<spread>:<squared 0|1>[:<trail edges>[:<home pull %>[:<trail team>[:<keep share 0|1>[:<trail far, nodes per robot>[:<share slack, map changes>[:<corridor keeps share 0|1>[:<tie-break team>[:<crowd penalty edges>[:<crowd radius>[:<far keeps share, edges>[:<its team>[:<far nearer>[:<cluster radius, edges>[:<its team>[:<far busy, nodes per robot>]]]]]]]]]]]]]]]]`
+            // `tempo:<deduce edges>:<endgame 0|1>:<idle: 0 trail, 1 home, 2 stay>:<spread>:<squared 0|1>[:<trail edges>[:<home pull %>[:<trail team>[:<keep share 0|1>[:<trail far, nodes per robot>[:<share slack, map changes>[:<corridor keeps share 0|1>[:<tie-break team>[:<crowd penalty edges>[:<crowd radius>[:<far keeps share, edges>[:<its team>[:<far nearer>[:<cluster radius, edges>[:<its team>[:<far busy, nodes per robot>[:<corridor extends share, team above>]]]]]]]]]]]]]]]]]`
             // for ablations; a field left out is off (keep share and
             // corridor keeps share: on; the crowd radius: 4).
             let rest = other.strip_prefix("tempo:")?;
@@ -76,13 +76,13 @@ pub fn strategy_on(name: &str, workers: &'static dyn Workers) -> Option<Box<DynS
             // u32::MAX: no team breaks ties), but no team limit on
             // trailing, and keep share and corridor keeps share on.
             #[rustfmt::skip]
-            let mut x: [u32; 21] = [0, 0, 0, 0, 0, 0, 0, u32::MAX, 1, 0, 0, 1, u32::MAX, 0, 4, 0, 6, 0, 0, 6, 0];
+            let mut x: [u32; 22] = [0, 0, 0, 0, 0, 0, 0, u32::MAX, 1, 0, 0, 1, u32::MAX, 0, 4, 0, 6, 0, 0, 6, 0, u32::MAX];
             if !(5..=x.len()).contains(&v.len()) {
                 return None;
             }
             x.get_mut(..v.len())?.copy_from_slice(&v);
             #[rustfmt::skip]
-            let [d, e, i, s, q, t, h, k, c, f, l, r, b, cp, cr, fk, ft, fe, cl, ct, fb] = x;
+            let [d, e, i, s, q, t, h, k, c, f, l, r, b, cp, cr, fk, ft, fe, cl, ct, fb, ce] = x;
             Box::new(
                 Tempo::new(TempoConfig {
                     keep_share: c != 0,
@@ -107,6 +107,7 @@ pub fn strategy_on(name: &str, workers: &'static dyn Workers) -> Option<Box<DynS
                     far_busy_nodes_per_robot: fb,
                     cluster_radius: cl,
                     cluster_team: usize::try_from(ct).unwrap_or(usize::MAX),
+                    corridor_extends_team: usize::try_from(ce).unwrap_or(usize::MAX),
                     ..TempoConfig::default()
                 })
                 .with_workers(workers),

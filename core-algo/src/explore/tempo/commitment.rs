@@ -129,6 +129,47 @@ impl Commitment {
     }
 }
 
+impl Commitment {
+    /// The frontier node just ahead, and the heading to it, when the robot
+    /// has reached its share and that share turned out to be a corridor
+    /// node leading on into the unknown: the way in behind it, one other
+    /// arm, and a frontier node at its end that no team mate has
+    /// announced (see `TempoConfig::corridor_extends_team`). A heuristic,
+    /// like `corridor_keeps_share`: in a corridor the robot can only go on
+    /// or turn back, and the node ahead is one edge away from it while
+    /// every team mate is farther.
+    pub(super) fn onward<M>(&self, ctx: &Context<'_, M>) -> Option<(usize, Heading)>
+    where
+        M: AsRef<[Block]> + AsMut<[Block]>,
+    {
+        let me = ctx.my()?;
+        let map = ctx.map;
+        let bounds = map.bounds();
+        let at = bounds.index(me.pos)?;
+        let reached = self.share == Some(at) && !map.is_frontier_at(at);
+        let followed = self.pose == (at, me.heading)
+            && self.team == ctx.robots.len()
+            && self.away == Self::away(ctx);
+        if !(reached && followed) {
+            return None;
+        }
+        let arms = map.known_arms(me.pos)?;
+        let back = me.heading.opposite();
+        if arms.count() != 2 || !arms.has(back) {
+            return None;
+        }
+        let ahead = arms.without(back).iter().next()?;
+        let next = neighbour_index(bounds, at, ahead)?;
+        let p = bounds.pos(next);
+        let free = ctx
+            .robots
+            .iter()
+            .enumerate()
+            .all(|(j, r)| j == ctx.me || r.target != Some(p));
+        (map.is_frontier_at(next) && free).then_some((next, ahead))
+    }
+}
+
 /// When a robot keeps a far share whatever changed in the map (see
 /// [`keeps_far`] and `TempoConfig::far_keeps_share`); the default never.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

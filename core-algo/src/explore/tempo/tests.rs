@@ -438,6 +438,102 @@ fn a_far_share_is_kept_at_a_junction_until_a_team_mate_announces_it() {
     assert!(!wait.holds(&ctx(&map, &robots), 0, true, far(1, 0)));
 }
 
+/// `Commitment::onward`: a robot that reaches its share and finds a
+/// corridor node there goes on to the frontier node ahead, round a bend
+/// too; not at a junction or a dead end, not onto a node a team mate has
+/// announced or that is known, and not after a bump.
+#[test]
+fn a_reached_share_goes_on_through_a_corridor_only() {
+    // x = 2..=5 visited, a junction at 4; frontier nodes at 1, 6, (4, 1).
+    let (base, b) = corridor_with_junction(6);
+    let at_5 = RobotView {
+        pos: Pos::new(5, 0),
+        heading: Heading::East,
+        eta: 0,
+        home: Pos::new(2, 0),
+        target: None,
+    };
+    let mate = RobotView {
+        pos: Pos::new(2, 0),
+        ..at_5
+    };
+    let share = Commitment::after(
+        &ctx(&base, &[at_5, mate]),
+        b.index(Pos::new(6, 0)),
+        Some(Heading::East),
+    )
+    .unwrap();
+    // The robot reaches 6 and finds `arms` there.
+    let reach = |arms: crate::geometry::Arms| {
+        let mut map = base.clone();
+        map.visit(Pos::new(6, 0), arms, crate::team::RobotId(0))
+            .unwrap();
+        map
+    };
+    let at_6 = RobotView {
+        pos: Pos::new(6, 0),
+        ..at_5
+    };
+    let ahead = |map: &KnownMap<Vec<Block>>, robots: &[RobotView]| {
+        share.onward(&ctx(map, robots)).map(|(i, h)| (b.pos(i), h))
+    };
+    let straight = reach(line());
+    assert_eq!(
+        ahead(&straight, &[at_6, mate]),
+        Some((Pos::new(7, 0), Heading::East))
+    );
+    let bend = reach(
+        crate::geometry::Arms::NONE
+            .with(Heading::West)
+            .with(Heading::North),
+    );
+    assert_eq!(
+        ahead(&bend, &[at_6, mate]),
+        Some((Pos::new(6, 1), Heading::North))
+    );
+    let junction = reach(line().with(Heading::North));
+    assert_eq!(ahead(&junction, &[at_6, mate]), None);
+    let dead_end = reach(crate::geometry::Arms::NONE.with(Heading::West));
+    assert_eq!(ahead(&dead_end, &[at_6, mate]), None);
+    // A team mate announced the node ahead.
+    let heading_there = RobotView {
+        target: Some(Pos::new(7, 0)),
+        ..mate
+    };
+    assert_eq!(ahead(&straight, &[at_6, heading_there]), None);
+    // The node ahead is known already.
+    let mut known = straight.clone();
+    mate_visits(
+        &mut known,
+        Pos::new(7, 0),
+        crate::geometry::Arms::NONE.with(Heading::West),
+    );
+    assert_eq!(ahead(&known, &[at_6, mate]), None);
+    // Bumped back to 5, or turned round on 6: not where the share's
+    // decision left it.
+    assert_eq!(ahead(&straight, &[at_5, mate]), None);
+    let turned = RobotView {
+        heading: Heading::West,
+        ..at_6
+    };
+    assert_eq!(ahead(&straight, &[turned, mate]), None);
+    // Tempo decides so in teams above `corridor_extends_team` only, and
+    // keeps the new share.
+    let mut fields = fresh_fields(b.area(), 2);
+    let mut tempo = Tempo::new(TempoConfig {
+        corridor_extends_team: 1,
+        ..TempoConfig::default()
+    });
+    tempo.kept[0] = Some(share);
+    let d = tempo
+        .decide(&ctx(&straight, &[at_6, mate]), &mut fields)
+        .unwrap();
+    assert_eq!(d.goal, Goal::Frontier(Pos::new(7, 0)));
+    assert_eq!(d.next, Some(Heading::East));
+    let kept = tempo.kept[0].unwrap();
+    assert_eq!(kept.share(), b.index(Pos::new(7, 0)));
+}
+
 /// Busy team mates leave far shares alone only on large fields: at 256²
 /// with 16 robots (a window of 258² nodes), not at 128², nor in a team
 /// that keeps no far shares at all.
