@@ -34,6 +34,7 @@
 use crate::geometry::{Arms, Heading, Pos};
 use crate::map::{Block, Bounds, KnownMap};
 use crate::timing::{Ticks, Timing};
+pub use ahead::{SearchId, WAY_AHEAD, WayAhead};
 use core::fmt;
 pub use corridor::JUMP_SLOTS;
 pub use exits::CorridorExits;
@@ -598,6 +599,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     }
 }
 
+mod ahead;
 mod astar;
 mod copy;
 mod corridor;

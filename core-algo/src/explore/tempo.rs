@@ -378,15 +378,21 @@ where
                         // way, and in a corridor it is kept with the share
                         // (maze 64², 16 robots: the same run, and 4.5 s of
                         // A* fell to 0.3 s).
-                        let on_way = bounds
-                            .index(r.pos)
-                            .and_then(|at| f.heading_after(ctx.map, i, at, r.heading));
+                        // Its next poses are kept with the share (see
+                        // `WayAhead`).
+                        let mut ahead = c.ahead();
+                        let on_way = bounds.index(r.pos).and_then(|at| {
+                            f.heading_after_kept(ctx.map, i, (at, r.heading), &mut ahead)
+                        });
                         if let Some(h) = on_way {
                             let d = Decision {
                                 goal: super::Goal::Frontier(goal),
                                 next: Some(h),
                             };
                             self.keep(ctx, Some(i), d);
+                            if let Some(Some(kept)) = self.kept.get_mut(me) {
+                                *kept = kept.with_ahead(ahead);
+                            }
                             return Ok(d);
                         }
                         if f.astar(ctx.map, ctx.timing, r.pos, r.heading, goal)?

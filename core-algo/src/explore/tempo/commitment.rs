@@ -3,7 +3,7 @@
 use crate::explore::Context;
 use crate::geometry::Heading;
 use crate::map::Block;
-use crate::path::neighbour_index;
+use crate::path::{WayAhead, neighbour_index};
 use crate::timing::Ticks;
 
 /// A robot's share, or its wait, kept while re-assigning could not change
@@ -42,6 +42,9 @@ pub(super) struct Commitment {
     pose: (usize, Heading),
     /// The share, or `None` for a wait.
     share: Option<usize>,
+    /// The next poses of the way to the share, read off the robot's field
+    /// (see [`WayAhead`]).
+    ahead: Option<WayAhead>,
 }
 
 /// A team mate at least this far off (in ticks) counts as out of reach:
@@ -83,7 +86,18 @@ impl Commitment {
             away: Self::away(ctx),
             pose,
             share,
+            ahead: None,
         })
+    }
+
+    /// The same, with the poses of the way ahead read off for it.
+    pub(super) fn with_ahead(self, ahead: Option<WayAhead>) -> Commitment {
+        Commitment { ahead, ..self }
+    }
+
+    /// The poses of the way ahead read off for it, if any.
+    pub(super) fn ahead(&self) -> Option<WayAhead> {
+        self.ahead
     }
 
     /// The kept share, `None` for a wait.
