@@ -27,6 +27,7 @@ mod columns;
 mod endgame;
 mod picks;
 pub use burgard::BurgardGreedy;
+pub(crate) use picks::jumps_pay;
 use picks::{FIRST_PICKS, PICKS, Picks};
 
 /// The cost matrix of a team against candidate frontier nodes.

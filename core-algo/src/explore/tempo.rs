@@ -46,7 +46,8 @@
 //! node with two known arms it can only go on or turn back, a fresh
 //! decision rarely changed its share, and deciding at every corridor node
 //! was a quarter of the decisions in a 16-robot maze, each over most of
-//! the map (`corridor_keeps_share`). In teams of more than six, a robot
+//! the map (`corridor_keeps_share`). In teams of more than six on a
+//! maze-like map, a robot
 //! that reaches its share and finds a corridor node there goes on to the
 //! frontier node ahead without re-assigning (`corridor_extends_team`):
 //! those were most of the decisions on reaching a share in a 16-robot
@@ -172,11 +173,16 @@ pub struct TempoConfig {
     /// measured neutral on small and 64² fields and 4–5 % shorter on large
     /// mazes (docs/results/performance.md, stop 26).
     pub corridor_keeps_share: bool,
-    /// With `keep_share`: in teams of more than this many robots, a robot
-    /// that reaches its share and finds a corridor node there, leading on
-    /// to a frontier node no team mate has announced, takes that node as
-    /// its next share without re-assigning the team
-    /// (`Commitment::onward`). Not exact, like `corridor_keeps_share`.
+    /// With `keep_share`: in teams of more than this many robots, on a
+    /// maze-like map (at least half the visited nodes with two arms, as
+    /// for jumping searches), a robot that reaches its share and finds a
+    /// corridor node there, leading on to a frontier node no team mate has
+    /// announced, takes that node as its next share without re-assigning
+    /// the team (`Commitment::onward`). Not exact, like
+    /// `corridor_keeps_share`: on mazes every makespan measured was the
+    /// same; on rooms fields, where few nodes are corridors, single runs
+    /// went −2.9 % to +2.4 % and not faster (docs/results/performance.md,
+    /// stop 52).
     pub corridor_extends_team: usize,
     /// Teams of more than this many robots break ties between equally
     /// cheap assignments by a tie-break that every robot computes alike
@@ -353,7 +359,7 @@ where
         let kept = self.kept.get_mut(me).and_then(Option::take);
         let far = cfg.far_rule(ctx.map.bounds().area(), k);
         if let (true, Some(c)) = (cfg.keep_share, kept) {
-            if k > cfg.corridor_extends_team {
+            if k > cfg.corridor_extends_team && super::assign::jumps_pay(ctx.map) {
                 if let Some((i, h)) = c.onward(ctx) {
                     let d = Decision {
                         goal: super::Goal::Frontier(ctx.map.bounds().pos(i)),
