@@ -47,13 +47,13 @@
 //! decision rarely changed its share, and deciding at every corridor node
 //! was a quarter of the decisions in a 16-robot maze, each over most of
 //! the map (`corridor_keeps_share`). In teams of more than six on a
-//! maze-like map, a robot
-//! that reaches its share and finds a corridor node there goes on to the
-//! frontier node ahead without re-assigning (`corridor_extends_team`):
-//! those were most of the decisions on reaching a share in a 16-robot
-//! maze, 40 % of its wall time at 256², and a fresh decision chose the
-//! node ahead anyway (the same makespans on every 16-robot maze measured;
-//! docs/results/performance.md, stop 52).
+//! maze-like map, a robot that reaches its share and finds a corridor
+//! node there goes on to the frontier node ahead without re-assigning
+//! (`corridor_extends_team`): those were most of the decisions on
+//! reaching a share in a 16-robot maze, 40 % of its wall time at 256²,
+//! and a fresh decision chose the node ahead anyway (the same makespans
+//! on every 16-robot maze measured; docs/results/performance.md,
+//! stop 52).
 //!
 //! In teams of more than six, a robot at least 24 edges (Manhattan) from
 //! its share keeps it too, whatever changed, while no team mate has

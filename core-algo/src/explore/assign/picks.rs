@@ -74,6 +74,8 @@ struct Reach<'a, C, Fl> {
 /// few jumps save: a 16-robot run on rooms 128² took 79 s jumping against
 /// 62 s (docs/results/performance.md, stop 42). Every robot decides it
 /// alike from its own map, so their predictions of each other agree.
+/// Tempo's robots go on through corridors without a team decision on
+/// such maps only (`TempoConfig::corridor_extends_team`).
 pub(crate) fn jumps_pay<M: AsRef<[Block]> + AsMut<[Block]>>(map: &crate::map::KnownMap<M>) -> bool {
     2 * map.two_armed_len() >= map.visited_len()
 }
