@@ -76,8 +76,9 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             }
         }
         *ahead = None;
-        // The walk of `heading_after`, keeping the last poses it saw in a
-        // ring: those nearest the robot, the way's next ones.
+        // The walk back from the target, until it passes the robot's pose
+        // (or, from the start, to the start), keeping the last poses it
+        // saw in a ring: those nearest the robot, the way's next ones.
         let mut ring = [(0usize, Heading::North); WAY_AHEAD + 1];
         let mut seen = 0usize;
         let from_start = self.start == Some((at, heading));

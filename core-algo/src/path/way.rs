@@ -167,19 +167,8 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         at: usize,
         heading: Heading,
     ) -> Option<Heading> {
-        if self.start == Some((at, heading)) {
-            return self.first_heading(map, target);
-        }
-        let (mut next, mut passed) = (None, false);
-        self.walk_back_while(map, target, |v, h, _| {
-            if v == at && h == heading {
-                passed = true;
-                return Flow::Stop;
-            }
-            next = Some(h);
-            Flow::Continue
-        });
-        next.filter(|_| passed)
+        // One walk, kept in `path::ahead`, which also keeps its next poses.
+        self.heading_after_kept(map, target, (at, heading), &mut None)
     }
 
     /// The distance below which a walk back cannot meet node `via` any
