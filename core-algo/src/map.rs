@@ -21,7 +21,8 @@
 //! A node costs 4 bytes of [`NodeCell`] plus one frontier bit, kept as one
 //! `u32` per 32-node [`Block`]: 4.125 bytes per node. A 1024-node window
 //! takes 4 224 bytes, plus about 270 bytes for the log of the last 32
-//! nodes that became passable ([`KnownMap::passable_since`]).
+//! nodes that became passable ([`KnownMap::passable_since`]) and about
+//! 220 bytes for its fingerprint and the last eight ([`KnownMap::print`]).
 
 use crate::geometry::{Arms, Heading, Pos};
 use crate::team::RobotId;
@@ -29,9 +30,12 @@ use core::fmt;
 
 mod cell;
 mod changes;
+mod print;
 use cell::{ARMS_MASK, INTO_SHIFT, VISITED, is_deduced};
 pub use cell::{BLOCK_NODES, Block, NodeCell, blocks_for};
 use changes::Changes;
+pub use print::MapPrint;
+use print::Prints;
 
 /// The rectangle of the lattice a map covers: `width` × `height` nodes from
 /// `origin` (its south-west corner).
@@ -186,6 +190,10 @@ pub struct KnownMap<S> {
     /// The nodes that became passable lately (see
     /// [`KnownMap::passable_since`]).
     changes: Changes,
+    /// See [`KnownMap::print`].
+    print: MapPrint,
+    /// The last prints, by revision (see [`KnownMap::revision_of`]).
+    prints: Prints,
 }
 
 impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
@@ -209,6 +217,8 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
             diagonals: None,
             revision: 0,
             changes: Changes::new(0),
+            print: MapPrint::default(),
+            prints: Prints::new(0, MapPrint::default()),
         })
     }
 
@@ -222,6 +232,8 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
         self.diagonals = None;
         self.revision = self.revision.wrapping_add(1);
         self.changes = Changes::new(self.revision);
+        self.print = MapPrint::default();
+        self.prints = Prints::new(self.revision, self.print);
     }
 
     /// The Manhattan distance from `from` to the farthest visited node
@@ -254,6 +266,20 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
     /// instead of searching again (see `DistField::refresh_reverse`).
     pub fn passable_since(&self, since: u32) -> Option<impl Iterator<Item = usize> + '_> {
         self.changes.since(since, self.revision)
+    }
+
+    /// A fingerprint of everything this map knows (see [`MapPrint`]): two
+    /// maps of one window with the same print read the same at every node.
+    pub fn print(&self) -> MapPrint {
+        self.print
+    }
+
+    /// The revision this map had when its print was `print`, if that was
+    /// lately: a search another map's planner kept for that print holds
+    /// for this map at that revision, and can be carried over from there
+    /// (see [`KnownMap::passable_since`]).
+    pub fn revision_of(&self, print: MapPrint) -> Option<u32> {
+        self.prints.revision_of(print)
     }
 
     /// The window this map covers.
@@ -401,6 +427,8 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
             self.revision = self.revision.wrapping_add(1);
             self.changes.push(self.revision, i);
         }
+        self.print = self.print.with(i, arms.bits());
+        self.prints.push(self.revision, self.print);
         self.refresh_frontier(i);
         let mut arm_leaves_bounds = false;
         for h in Heading::ALL {

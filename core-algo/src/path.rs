@@ -245,6 +245,12 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         }
     }
 
+    /// How many cells the scratch holds: a field can only stand in for
+    /// one of the same size.
+    pub fn capacity(&self) -> usize {
+        self.cells.as_ref().len()
+    }
+
     /// The window of the last search.
     pub fn bounds(&self) -> Bounds {
         self.bounds

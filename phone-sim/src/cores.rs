@@ -9,17 +9,20 @@
 //! run's deciding time on rooms 128² and 7 % on maze 128²
 //! (docs/results/performance.md, stop 43).
 
+use crate::columns::HostColumns;
 use crate::memo::HostMemo;
-use core_algo::explore::Workers;
+use core_algo::explore::{SharedColumns, Workers};
 use core_algo::path::SearchMemo;
 use rayon::prelude::*;
 
 /// Runs jobs on rayon's global pool (all cores), each job stealable on its
 /// own, since one search can cost a thousand times another; and keeps the
-/// searches that the next decisions may take over ([`HostMemo`]).
+/// searches that the next decisions may take over ([`HostMemo`]) and the
+/// endgame's column searches for every robot ([`HostColumns`]).
 #[derive(Debug, Default)]
 pub struct HostCores {
     memo: HostMemo,
+    columns: HostColumns,
 }
 
 impl HostCores {
@@ -27,12 +30,18 @@ impl HostCores {
     pub const fn new() -> HostCores {
         HostCores {
             memo: HostMemo::new(),
+            columns: HostColumns::new(),
         }
     }
 
     /// The memo of searches the strategies share.
     pub fn memo(&self) -> &HostMemo {
         &self.memo
+    }
+
+    /// The column searches the strategies share.
+    pub fn columns(&self) -> &HostColumns {
+        &self.columns
     }
 }
 
@@ -42,6 +51,10 @@ pub static HOST_CORES: HostCores = HostCores::new();
 impl Workers for HostCores {
     fn memo(&self) -> Option<&dyn SearchMemo> {
         Some(&self.memo)
+    }
+
+    fn columns(&self) -> Option<&dyn SharedColumns> {
+        Some(&self.columns)
     }
 
     fn run(&self, jobs: &mut [&mut (dyn FnMut() + Send)]) {

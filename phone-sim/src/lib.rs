@@ -38,6 +38,7 @@ pub fn stdout_or_exit(args: std::fmt::Arguments<'_>) {
 
 pub mod bench;
 pub mod cli;
+pub mod columns;
 pub mod connect_cmd;
 pub mod cores;
 pub mod environment;

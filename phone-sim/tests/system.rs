@@ -447,6 +447,38 @@ fn searches_taken_over_from_a_memo_change_no_run() {
     );
 }
 
+/// The endgame's column searches kept once for the whole team (stop 53,
+/// `phone_sim::columns`): the same runs as a team whose robots each search
+/// their own, and most searches lent out again.
+#[test]
+fn column_searches_shared_by_the_team_change_no_run() {
+    static CORES: phone_sim::cores::HostCores = phone_sim::cores::HostCores::new();
+    for (kind, size, k) in [(Kind::Maze, 40, 16), (Kind::Rooms, 24, 12)] {
+        let f = kind.generate(size, size, 3);
+        let starts = field::default_starts(f.nodes(), k);
+        let f = f.with_starts(starts).expect("starts");
+        let bf = phone_sim::bench::BenchField::from_field(&f, f.name().to_string());
+        let (taken, given) = CORES.columns().counts();
+        let alone =
+            phone_sim::bench::run_system(&bf, k, "tempo", 100, &core_algo::explore::InOrder);
+        let shared = phone_sim::bench::run_system(&bf, k, "tempo", 100, &CORES);
+        let alone = alone.unwrap();
+        assert!(alone.complete, "{}", f.name());
+        assert_eq!(shared.unwrap(), alone, "{}", f.name());
+        let (taken, given) = (
+            CORES.columns().counts().0 - taken,
+            CORES.columns().counts().1 - given,
+        );
+        // Every robot decides on the same map: a search given back is
+        // mostly taken again, by the next robot or the next round.
+        assert!(
+            2 * taken > given && given > 0,
+            "{}: {taken} lent, {given} given back",
+            f.name()
+        );
+    }
+}
+
 /// Sixteen robots with tempo's far shares kept beside busy team mates
 /// (`far_busy_nodes_per_robot`, on by default only on fields of 4 096
 /// nodes per robot; here on at any size, and far from 8 edges, so that

@@ -206,7 +206,7 @@ impl Candidates {
     ) -> Result<bool, PlanError>
     where
         M: AsRef<[Block]> + AsMut<[Block]> + Sync,
-        F: AsRef<[PlanCell]> + AsMut<[PlanCell]> + Send,
+        F: AsRef<[PlanCell]> + AsMut<[PlanCell]> + Send + 'static,
     {
         let Some(k) = Self::team_size(ctx, fields) else {
             return Ok(false);

@@ -25,6 +25,7 @@ mod layers;
 pub mod legacy;
 mod minpos;
 mod nearest;
+mod shared_columns;
 mod tempo;
 mod workers;
 
@@ -33,6 +34,7 @@ pub use layers::{CooperationLayer, Layer, ResidualLayer, SeedConfig, SeedExplore
 pub use legacy::Legacy2010;
 pub use minpos::MinPos;
 pub use nearest::{GreedyClaim, NearestFrontier};
+pub use shared_columns::SharedColumns;
 pub use tempo::{Tempo, TempoConfig};
 pub use workers::{InOrder, Workers};
 

@@ -342,7 +342,7 @@ impl Tempo {
 impl<M, F> Strategy<M, F> for Tempo
 where
     M: AsRef<[Block]> + AsMut<[Block]> + Sync,
-    F: AsRef<[PlanCell]> + AsMut<[PlanCell]> + Send,
+    F: AsRef<[PlanCell]> + AsMut<[PlanCell]> + Send + 'static,
 {
     fn name(&self) -> &'static str {
         "tempo"

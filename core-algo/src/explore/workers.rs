@@ -14,6 +14,7 @@
 //! Only the host knows how to run threads, so the pool stays behind this
 //! trait and core-algo stays `no_std`.
 
+use super::SharedColumns;
 use crate::path::SearchMemo;
 
 /// Runs independent jobs, on more than one core where the host can.
@@ -26,6 +27,12 @@ pub trait Workers: Sync {
     /// Where the host keeps searches that the next decisions may take
     /// over instead of searching again (see [`SearchMemo`]), if it does.
     fn memo(&self) -> Option<&dyn SearchMemo> {
+        None
+    }
+
+    /// Where the host keeps the endgame's column searches for every robot
+    /// it runs (see [`SharedColumns`]), if it does.
+    fn columns(&self) -> Option<&dyn SharedColumns> {
         None
     }
 }

@@ -309,3 +309,44 @@ fn passable_since_names_visited_and_deduced_nodes() {
     assert_eq!(since(&m, r0), None);
     assert_eq!(since(&m, m.revision()), Some(vec![]));
 }
+
+/// Two maps that learnt the same nodes in another order, from other
+/// robots, have one print; a map's print of a few revisions ago names
+/// that revision; a different shape or node gives another print.
+#[test]
+fn maps_that_read_the_same_have_one_print() {
+    let visits = [
+        (Pos::new(0, 0), arms(&[N, E])),
+        (Pos::new(1, 0), arms(&[W, N])),
+        (Pos::new(0, 1), arms(&[S, E])),
+        (Pos::new(1, 1), arms(&[S, W])),
+    ];
+    let mut a = small_map();
+    let mut b = small_map();
+    let mut revs = Vec::new();
+    for (i, &(p, x)) in visits.iter().enumerate() {
+        a.visit(p, x, RobotId(0)).unwrap();
+        revs.push((a.revision(), a.print()));
+        let (q, y) = visits[visits.len() - 1 - i];
+        b.visit(q, y, RobotId(i as u8)).unwrap();
+        // A repeated report changes nothing.
+        b.visit(q, y, RobotId(3)).unwrap();
+    }
+    assert_eq!(a.print(), b.print());
+    assert_ne!(a.print(), MapPrint::default());
+    for &(rev, print) in &revs {
+        assert_eq!(a.revision_of(print), Some(rev));
+    }
+    // b never had a's first prints (it learnt the nodes the other way).
+    assert_eq!(b.revision_of(revs[0].1), None);
+    assert_eq!(b.revision_of(a.print()), Some(b.revision()));
+    let mut c = small_map();
+    c.visit(Pos::new(0, 0), arms(&[N]), RobotId(0)).unwrap();
+    let mut d = small_map();
+    d.visit(Pos::new(0, 0), arms(&[N, E]), RobotId(0)).unwrap();
+    assert_ne!(c.print(), d.print());
+    assert_eq!(d.print(), revs[0].1);
+    d.clear();
+    assert_eq!(d.print(), MapPrint::default());
+    assert_eq!(d.revision_of(revs[0].1), None);
+}

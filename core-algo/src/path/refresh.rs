@@ -287,6 +287,38 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         result
     }
 
+    /// Takes an open reverse search that another robot's planner kept for
+    /// a map reading as `map` did at revision `rev` (equal
+    /// [`MapPrint`](crate::map::MapPrint)s, which the caller vouches for),
+    /// as if it had been searched over `map` at `rev`: it can then be
+    /// refreshed and resumed as this map's own (see
+    /// [`DistField::refresh_reverse`]). A reverse search reads nothing of
+    /// the map but what the prints agree on. Whether it could: only a
+    /// plain open reverse search, without marks or memos (their
+    /// revisions would say more than the prints).
+    pub fn adopt_reverse(&mut self, rev: u32) -> bool {
+        if self.rev_open.is_none() || self.way.is_some() || self.memo.is_some() || self.weighted {
+            return false;
+        }
+        self.tree = self.tree.map(|_| rev);
+        self.reverse = self.reverse.map(|(g, _)| (g, rev));
+        self.rev_open = self.rev_open.map(|(g, _)| (g, rev));
+        true
+    }
+
+    /// Forgets what the last search was: nothing in the field is taken
+    /// for a kept search any more, and the next search clears its cells
+    /// as usual. What a field handed back by a host holds (see
+    /// `explore::SharedColumns`): its stamps were another map's.
+    pub fn forget(&mut self) {
+        self.tree = None;
+        self.way = None;
+        self.reverse = None;
+        self.memo = None;
+        self.start = None;
+        self.refuse();
+    }
+
     /// Every state a reverse search has not settled costs at least this
     /// (`None` for a field that is no open reverse search; [`Ticks::MAX`]
     /// once it has settled everything it can reach).

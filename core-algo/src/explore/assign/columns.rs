@@ -3,11 +3,12 @@
 //! decision's [`Workers`]. See `Candidates::reverse_columns`.
 
 use super::{Candidates, INF, hungarian_by};
-use crate::explore::{Context, MAX_ROBOTS, Workers};
+use crate::explore::{Context, MAX_ROBOTS, SharedColumns, Workers};
 use crate::geometry::Heading;
 use crate::map::Block;
 use crate::path::{CorridorExits, DistField, Flow, PlanCell, PlanError, way_in};
 use crate::timing::Ticks;
+use core::any::Any;
 
 /// How many cheapest robots each column's reverse search finds before the
 /// lazy endgame first assigns the team (see `Candidates::reverse_columns`).
@@ -72,7 +73,7 @@ impl Candidates {
     ) -> Result<bool, PlanError>
     where
         M: AsRef<[Block]> + AsMut<[Block]> + Sync,
-        F: AsRef<[PlanCell]> + AsMut<[PlanCell]> + Send,
+        F: AsRef<[PlanCell]> + AsMut<[PlanCell]> + Send + 'static,
     {
         let (map, k, me, m) = (ctx.map, self.k, ctx.me, self.m);
         let bounds = map.bounds();
@@ -149,7 +150,10 @@ impl Candidates {
             None => Grow::On,
         };
         let run = (&slot, robots, cost, workers);
-        self.grow_columns(ctx, fields, all, run, (want, grow))?;
+        // How far each column's search has settled (the slot may have
+        // handed its search back to the host's store, see `search_column`).
+        let mut settled_to = [None; MAX_ROBOTS];
+        self.grow_columns(ctx, fields, all, run, (want, grow), &mut settled_to)?;
         if !lazy {
             return Ok(true);
         }
@@ -166,16 +170,17 @@ impl Candidates {
         let mut stale = u32::MAX;
         loop {
             for col in (0..m).filter(|&col| stale & (1 << col) != 0) {
-                let (Some(s), Some(&node), Some(row)) = (
-                    slot.get(col).copied().flatten().map(|(s, _)| s),
+                let (Some(_), Some(&node), Some(row)) = (
+                    slot.get(col).copied().flatten(),
                     self.nodes.get(col),
                     low.get_mut(col),
                 ) else {
                     continue;
                 };
-                let from = fields
-                    .get(s)
-                    .and_then(|f| f.reverse_settled_to())
+                let from = settled_to
+                    .get(col)
+                    .copied()
+                    .flatten()
                     .filter(|&t| t < Ticks::MAX && spent & (1 << col) == 0);
                 for (j, x) in row.iter_mut().enumerate().take(k) {
                     let stands = exits.get(j).is_some_and(|e| e.iter().next().is_some());
@@ -226,7 +231,14 @@ impl Candidates {
                 *b = self.found_in(col);
             }
             let want = |c: &Candidates, col: usize| c.found_in(col).count_ones() as usize + 1;
-            self.grow_columns(ctx, fields, grow, run, (want, |_| Grow::On))?;
+            self.grow_columns(
+                ctx,
+                fields,
+                grow,
+                run,
+                (want, |_| Grow::On),
+                &mut settled_to,
+            )?;
             for col in (0..m).filter(|&col| grow & (1 << col) != 0) {
                 if before.get(col) == Some(&self.found_in(col)) {
                     spent |= 1 << col;
@@ -252,10 +264,11 @@ impl Candidates {
             &dyn Workers,
         ),
         (want, grow): (impl Fn(&Candidates, usize) -> usize, impl Fn(usize) -> Grow),
+        settled_to: &mut [Option<Ticks>; MAX_ROBOTS],
     ) -> Result<(), PlanError>
     where
         M: AsRef<[Block]> + AsMut<[Block]> + Sync,
-        F: AsRef<[PlanCell]> + AsMut<[PlanCell]> + Send,
+        F: AsRef<[PlanCell]> + AsMut<[PlanCell]> + Send + 'static,
     {
         let (k, m) = (self.k, self.m);
         // Each column's costs, copied out so that its search writes only
@@ -270,7 +283,8 @@ impl Candidates {
                 *l = Some(f);
             }
         }
-        let mut results = [Ok(()); MAX_ROBOTS];
+        let mut results = [Ok(None); MAX_ROBOTS];
+        let shared = workers.columns();
         // The columns whose search runs: only those are written back.
         let mut ran = 0u32;
         let mut jobs = heapless::Vec::<_, MAX_ROBOTS>::new();
@@ -288,7 +302,13 @@ impl Candidates {
             let (want, how) = (want(self, col), grow(col));
             ran |= 1 << col;
             let job = move || {
-                *result = search_column(ctx, rev, (node, how, want), (out, k), robots, cost);
+                *result = search_column(
+                    ctx,
+                    rev,
+                    (node, how, want),
+                    (out, k),
+                    (robots, cost, shared),
+                );
             };
             // At most one job per column, fewer than `MAX_ROBOTS`.
             if jobs.push(job).is_err() {
@@ -304,13 +324,16 @@ impl Candidates {
             if ran & (1 << col) == 0 {
                 continue;
             }
+            if let (Some(t), Some(Ok(x))) = (settled_to.get_mut(col), results.get(col)) {
+                *t = *x;
+            }
             for (j, &x) in out.iter().enumerate().take(k) {
                 if let Some(e) = self.cost.get_mut(j).and_then(|r| r.get_mut(col)) {
                     *e = x;
                 }
             }
         }
-        results.into_iter().collect()
+        results.into_iter().try_for_each(|r| r.map(|_| ()))
     }
 
     /// The robots with a cost in column `col` (bit j: robot j).
@@ -323,24 +346,55 @@ impl Candidates {
 
 /// One column's search (to frontier node `node`, in `rev`), grown as
 /// `how` says until its `want` cheapest robots are proven; what it finds
-/// goes into `costs` (robot j's cost, `INF` if not found).
+/// goes into `costs` (robot j's cost, `INF` if not found). How far the
+/// search has settled (see [`DistField::reverse_settled_to`]).
+///
+/// With a host's store (`shared`), the search is the team's: taken from
+/// the store if it keeps one for this map, and given back after.
+#[allow(clippy::type_complexity)]
 fn search_column<M, F>(
     ctx: &Context<'_, M>,
     rev: &mut DistField<F>,
     (node, how, want): (usize, Grow, usize),
     (costs, k): (&mut [i64; MAX_ROBOTS], usize),
-    (exits, near): (&[CorridorExits; MAX_ROBOTS], u64),
-    cost: Cost<'_>,
-) -> Result<(), PlanError>
+    ((exits, near), cost, shared): (
+        (&[CorridorExits; MAX_ROBOTS], u64),
+        Cost<'_>,
+        Option<&dyn SharedColumns>,
+    ),
+) -> Result<Option<Ticks>, PlanError>
 where
     M: AsRef<[Block]> + AsMut<[Block]>,
-    F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+    F: AsRef<[PlanCell]> + AsMut<[PlanCell]> + 'static,
 {
     let map = ctx.map;
     let mut column = Column::new((costs, k), node, want, cost, (exits, near));
-    let kept = match how {
-        Grow::First { held, .. } => held && rev.refresh_reverse(map, ctx.timing),
-        Grow::On => true,
+    // The team's search of this node, or of the node before it on its
+    // corridor (the column visited last, see `DistField::rebase_reverse`).
+    let taken = shared.and_then(|s| {
+        let revision_of = |p| map.revision_of(p);
+        let mut take = |goal: usize| match s.take(goal, &revision_of, rev as &mut dyn Any) {
+            Some(r) if rev.adopt_reverse(r) => true,
+            Some(_) => {
+                rev.forget();
+                false
+            }
+            None => false,
+        };
+        if take(node) {
+            return Some(rev.refresh_reverse(map, ctx.timing));
+        }
+        let (u, _) = way_in(map, node)?;
+        take(u).then(|| rev.rebase_reverse(map, ctx.timing, node))
+    });
+    let kept = match (taken, how) {
+        (Some(kept), _) => kept,
+        (None, Grow::First { held, .. }) => held && rev.refresh_reverse(map, ctx.timing),
+        // A later round goes on with the search the first one left, ours
+        // or, with a store, one given back to it and gone since.
+        (None, Grow::On) => {
+            rev.reverse_goal() == Some(node) && rev.refresh_reverse(map, ctx.timing)
+        }
     };
     if kept {
         column.read(rev);
@@ -360,7 +414,11 @@ where
     // A search that ran out proves every robot with an exit it settled,
     // though no state came after to say so.
     column.read(rev);
-    Ok(())
+    let settled = rev.reverse_settled_to();
+    if let Some(s) = shared.filter(|_| rev.reverse_goal() == Some(node)) {
+        s.give(node, map.print(), rev as &mut dyn Any);
+    }
+    Ok(settled)
 }
 
 /// One column's reverse search under way: see `Candidates::reverse_columns`.

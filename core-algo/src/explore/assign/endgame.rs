@@ -45,7 +45,7 @@ impl Candidates {
     ) -> Result<bool, PlanError>
     where
         M: AsRef<[Block]> + AsMut<[Block]> + Sync,
-        F: AsRef<[PlanCell]> + AsMut<[PlanCell]> + Send,
+        F: AsRef<[PlanCell]> + AsMut<[PlanCell]> + Send + 'static,
     {
         let (map, k, me) = (ctx.map, ctx.robots.len(), ctx.me);
         c.clear(k);
