@@ -8,7 +8,7 @@
 
 use core_algo::agent::SharedFields;
 use core_algo::geometry::Pos;
-use core_algo::map::{Block, Bounds, KnownMap};
+use core_algo::map::{Block, Bounds, KnownMap, MapPrint};
 use core_algo::path::{DistField, PlanCell, min_cells, node_mark};
 use core_algo::timing::Timing;
 use std::collections::VecDeque;
@@ -21,6 +21,21 @@ const MAX_BYTES: usize = 64 << 20;
 /// See the module docs.
 pub struct HostFields {
     kept: Mutex<VecDeque<Kept>>,
+    /// Homes' depths (see [`SharedFields::home_depth`]), newest last.
+    depths: Mutex<VecDeque<Depth>>,
+}
+
+/// Home depths kept at most, oldest out first: 16 a team.
+const MAX_DEPTHS: usize = 256;
+
+/// One home's depth over a map with `print`.
+#[derive(Clone, Copy, PartialEq, Eq)]
+struct Depth {
+    home: Pos,
+    timing: Timing,
+    bounds: Bounds,
+    print: MapPrint,
+    depth: u64,
 }
 
 impl std::fmt::Debug for HostFields {
@@ -67,6 +82,7 @@ impl HostFields {
     pub const fn new() -> HostFields {
         HostFields {
             kept: Mutex::new(VecDeque::new()),
+            depths: Mutex::new(VecDeque::new()),
         }
     }
 }
@@ -126,6 +142,35 @@ impl SharedFields<Vec<Block>, Vec<PlanCell>> for HostFields {
         kept.push_back(new);
         while kept.iter().map(Kept::bytes).sum::<usize>() > MAX_BYTES {
             kept.pop_front();
+        }
+    }
+
+    fn home_depth(&self, map: &KnownMap<Vec<Block>>, timing: Timing, home: Pos) -> Option<u64> {
+        let (bounds, print) = (map.bounds(), map.print());
+        let depths = self.depths.lock().unwrap_or_else(|e| e.into_inner());
+        depths
+            .iter()
+            .rev()
+            .find(|d| {
+                d.home == home && d.timing == timing && d.bounds == bounds && d.print == print
+            })
+            .map(|d| d.depth)
+    }
+
+    fn keep_home_depth(&self, map: &KnownMap<Vec<Block>>, timing: Timing, home: Pos, depth: u64) {
+        let new = Depth {
+            home,
+            timing,
+            bounds: map.bounds(),
+            print: map.print(),
+            depth,
+        };
+        let mut depths = self.depths.lock().unwrap_or_else(|e| e.into_inner());
+        if !depths.contains(&new) {
+            depths.push_back(new);
+            if depths.len() > MAX_DEPTHS {
+                depths.pop_front();
+            }
         }
     }
 }
@@ -200,5 +245,26 @@ mod tests {
         assert!(!host.recall_reverse(&b, t, Pos::new(4, 0), &mut field()));
         // One node fewer known: another map.
         assert!(!host.recall_reverse(&corridor(11, true), t, goal, &mut field()));
+    }
+
+    /// A home's depth kept for one map is told to a robot whose map reads
+    /// the same (learnt in another order), not for another home, timing
+    /// or map.
+    #[test]
+    fn a_home_depth_goes_only_to_maps_that_read_the_same() {
+        let host = HostFields::new();
+        let t = Timing {
+            edge: 10,
+            quarter_turn: 5,
+        };
+        let (a, b) = (corridor(12, true), corridor(12, false));
+        let home = Pos::new(0, 0);
+        assert_eq!(host.home_depth(&b, t, home), None, "nothing kept yet");
+        host.keep_home_depth(&a, t, home, 1234);
+        assert_eq!(host.home_depth(&b, t, home), Some(1234));
+        assert_eq!(host.home_depth(&b, t, Pos::new(1, 0)), None);
+        let slower = Timing { edge: 20, ..t };
+        assert_eq!(host.home_depth(&b, slower, home), None);
+        assert_eq!(host.home_depth(&corridor(11, true), t, home), None);
     }
 }

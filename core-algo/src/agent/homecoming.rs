@@ -212,7 +212,7 @@ where
     /// `fill_order`); all zero without a planner field.
     fn fill_ranks(&mut self) -> [u64; MAX_ROBOTS] {
         let me = self.id.index();
-        let (map, timing) = (&self.map, self.config.timing);
+        let (map, timing, shared) = (&self.map, self.config.timing, self.shared);
         let Some(field) = self.fields.first_mut() else {
             return [0; MAX_ROBOTS];
         };
@@ -226,15 +226,30 @@ where
         // A home's depth: its total distance to every node (a dead end
         // scores high, a junction low).
         let mut depths: Vec<(usize, Pos, u64), MAX_ROBOTS> = Vec::new();
-        for (i, home) in homes {
-            let mut sum: u64 = 0;
-            let ok = field
-                .compute(map, timing, home, Heading::North, |_, d| {
-                    sum = sum.saturating_add(u64::from(d));
-                    Flow::Continue
-                })
-                .is_ok();
-            let _ = depths.push((i, home, if ok { sum } else { 0 }));
+        let homes: Vec<(usize, Pos), MAX_ROBOTS> = homes.collect();
+        let last = homes.len().saturating_sub(1);
+        for (n, &(i, home)) in homes.iter().enumerate() {
+            // Worked out once per team where a host runs the whole team;
+            // but the last home is always searched, so that the field ends
+            // holding what it always did (later decisions read ways from
+            // whatever field holds one, see `round_settled_mates`).
+            let kept = shared
+                .filter(|_| n < last)
+                .and_then(|s| s.home_depth(map, timing, home));
+            let depth = kept.unwrap_or_else(|| {
+                let mut sum: u64 = 0;
+                let ok = field
+                    .compute(map, timing, home, Heading::North, |_, d| {
+                        sum = sum.saturating_add(u64::from(d));
+                        Flow::Continue
+                    })
+                    .is_ok();
+                if let (true, Some(s)) = (ok, shared) {
+                    s.keep_home_depth(map, timing, home, sum);
+                }
+                if ok { sum } else { 0 }
+            });
+            let _ = depths.push((i, home, depth));
         }
         // Depth orders the homes where the field leaves a choice; a home
         // entered only through others fills before them.

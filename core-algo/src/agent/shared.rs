@@ -34,4 +34,20 @@ pub trait SharedFields<M, F>: Sync {
     /// Keeps a copy of `field`, the whole reverse field to `goal` just
     /// searched over `map` with `timing`.
     fn keep_reverse(&self, map: &KnownMap<M>, timing: Timing, goal: Pos, field: &DistField<F>);
+
+    /// The depth of `home` (its total time to every node, see
+    /// `Agent::fill_ranks`) over a map with `map`'s print and `timing`, if
+    /// one is kept. Every robot of a team works out every home's depth once
+    /// the map is complete: a whole search per home, 256 of them on a
+    /// 16-robot team for 16 numbers (docs/results/performance.md, stop 53).
+    fn home_depth(&self, map: &KnownMap<M>, timing: Timing, home: Pos) -> Option<u64> {
+        let _ = (map, timing, home);
+        None
+    }
+
+    /// Keeps `depth`, the depth of `home` just worked out over `map` with
+    /// `timing`.
+    fn keep_home_depth(&self, map: &KnownMap<M>, timing: Timing, home: Pos, depth: u64) {
+        let _ = (map, timing, home, depth);
+    }
 }
