@@ -21,8 +21,9 @@ type Field = DistField<Vec<PlanCell>>;
 /// on 256² keeps a few dozen fields of 1 MiB.
 const MAX_BYTES: usize = 128 << 20;
 
-/// Fields holding nothing kept for robots to swap in, at most.
-const MAX_SPARE: usize = 32;
+/// Bytes of fields holding nothing, kept for robots to swap in, at most
+/// (takes and gives alternate, so a few are enough).
+const MAX_SPARE_BYTES: usize = 64 << 20;
 
 /// See the module docs.
 #[derive(Debug, Default)]
@@ -63,7 +64,8 @@ fn bytes(f: &Field) -> usize {
 impl Store {
     /// Keeps `f`, which holds no search, for a later swap.
     fn spare(&mut self, mut f: Field) {
-        if self.spare.len() < MAX_SPARE {
+        let held: usize = self.spare.iter().map(bytes).sum();
+        if held + bytes(&f) <= MAX_SPARE_BYTES {
             f.forget();
             self.spare.push(f);
         }
