@@ -162,31 +162,10 @@ impl SharedColumns for HostColumns {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use core_algo::geometry::{Arms, Heading, Pos};
-    use core_algo::map::{Block, Bounds, KnownMap, blocks_for};
+    use crate::shared_fields::tests::corridor;
+    use core_algo::geometry::{Heading, Pos};
     use core_algo::path::{Flow, min_cells};
-    use core_algo::team::RobotId;
     use core_algo::timing::Timing;
-
-    /// A corridor of `len` nodes, known whole, learnt from west to east or
-    /// east to west.
-    fn corridor(len: u16, eastward: bool) -> KnownMap<Vec<Block>> {
-        let b = Bounds::new(Pos::new(0, 0), 12, 1);
-        let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).unwrap();
-        let xs: Vec<u16> = if eastward {
-            (0..len).collect()
-        } else {
-            (0..len).rev().collect()
-        };
-        for x in xs {
-            let bits = u8::from(x > 0) << Heading::West.index()
-                | u8::from(x + 1 < len) << Heading::East.index();
-            let x = i16::try_from(x).unwrap();
-            map.visit(Pos::new(x, 0), Arms::from_bits(bits), RobotId(0))
-                .unwrap();
-        }
-        map
-    }
 
     fn field(cells: usize) -> Field {
         DistField::new(vec![PlanCell::EMPTY; cells])

@@ -176,16 +176,16 @@ impl SharedFields<Vec<Block>, Vec<PlanCell>> for HostFields {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use core_algo::geometry::{Arms, Heading};
     use core_algo::map::blocks_for;
     use core_algo::path::Flow;
     use core_algo::team::RobotId;
 
-    /// A corridor of `len` nodes, known whole, learnt from east to west
-    /// or west to east.
-    fn corridor(len: u16, eastward: bool) -> KnownMap<Vec<Block>> {
+    /// A corridor of `len` nodes in a 12-node window, known whole, learnt
+    /// from west to east or east to west (also `columns`' tests).
+    pub(crate) fn corridor(len: u16, eastward: bool) -> KnownMap<Vec<Block>> {
         let b = Bounds::new(Pos::new(0, 0), 12, 1);
         let mut map = KnownMap::new(vec![Block::EMPTY; blocks_for(b.area())], b).unwrap();
         let xs: Vec<u16> = if eastward {
