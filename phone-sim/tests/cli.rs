@@ -233,6 +233,8 @@ fn realtime_pacing_gives_the_same_run() {
             "searches_taken_over_after",
             "searches_recorded",
             "searches_recorded_after",
+            "column_searches_lent",
+            "column_searches_given",
         ] {
             assert!(o.remove(key).is_some(), "{key} reported");
         }

@@ -102,6 +102,11 @@ pub struct Report {
     /// Rests of searches written down: later rounds of a team mate's
     /// picks, resumed where a kept record stopped.
     pub searches_recorded_after: u64,
+    /// The endgame's column searches lent to a robot from the team's store
+    /// (see `phone_sim::columns`), since the process started.
+    pub column_searches_lent: u64,
+    /// Column searches given back to the store.
+    pub column_searches_given: u64,
     /// Per robot.
     pub per_robot: Vec<RobotReport>,
 }
@@ -112,6 +117,7 @@ pub fn report(field: &Field, a: &ExploreArgs, timing: Timing, o: &Outcome, wall_
     let lower_bound_s = lower_bound_s(field, k, timing);
     let makespan_s = f64::from(o.makespan_ms) / 1000.0;
     let memo = crate::cores::HOST_CORES.memo().counts();
+    let (lent, given) = crate::cores::HOST_CORES.columns().counts();
     Report {
         field: field.name().to_string(),
         strategy: a.strategy.clone(),
@@ -150,6 +156,8 @@ pub fn report(field: &Field, a: &ExploreArgs, timing: Timing, o: &Outcome, wall_
         searches_taken_over_after: memo.after,
         searches_recorded: memo.recorded,
         searches_recorded_after: memo.recorded_after,
+        column_searches_lent: lent,
+        column_searches_given: given,
         per_robot: o
             .robots
             .iter()
@@ -273,6 +281,13 @@ fn print_report(
             r.searches_recorded,
             r.searches_taken_over_after,
             r.searches_recorded_after
+        );
+    }
+    if r.column_searches_given > 0 {
+        crate::outln!(
+            "endgame column searches: {} lent from the team's store, {} given back",
+            r.column_searches_lent,
+            r.column_searches_given
         );
     }
     crate::outln!(
