@@ -2,14 +2,15 @@
 //! [`core_algo::agent::SharedFields`]): each team mate's home field is
 //! searched once per team, not once per robot.
 //!
-//! A field is handed over only for a map whose every node reads as the
-//! map it was searched on did, so what this holds (another robot's field,
-//! another run's) never changes a decision.
+//! A field or depth is handed over only for a map with the print of the
+//! map it was worked out on ([`MapPrint`]: maps that read the same at every
+//! node), in the same window and with the same timing, so what this holds
+//! (another robot's field, another run's) never changes a decision.
 
 use core_algo::agent::SharedFields;
 use core_algo::geometry::Pos;
 use core_algo::map::{Block, Bounds, KnownMap, MapPrint};
-use core_algo::path::{DistField, PlanCell, min_cells, node_mark};
+use core_algo::path::{DistField, PlanCell, min_cells};
 use core_algo::timing::Timing;
 use std::collections::VecDeque;
 use std::sync::Mutex;
@@ -28,13 +29,30 @@ pub struct HostFields {
 /// Home depths kept at most, oldest out first: 16 a team.
 const MAX_DEPTHS: usize = 256;
 
-/// One home's depth over a map with `print`.
+/// What a kept field or depth was worked out over: a map with this print,
+/// in this window, with this timing.
 #[derive(Clone, Copy, PartialEq, Eq)]
-struct Depth {
-    home: Pos,
+struct Over {
     timing: Timing,
     bounds: Bounds,
     print: MapPrint,
+}
+
+impl Over {
+    fn of<M: AsRef<[Block]> + AsMut<[Block]>>(map: &KnownMap<M>, timing: Timing) -> Over {
+        Over {
+            timing,
+            bounds: map.bounds(),
+            print: map.print(),
+        }
+    }
+}
+
+/// One home's depth.
+#[derive(Clone, Copy, PartialEq, Eq)]
+struct Depth {
+    home: Pos,
+    over: Over,
     depth: u64,
 }
 
@@ -45,35 +63,16 @@ impl std::fmt::Debug for HostFields {
     }
 }
 
-/// One whole reverse field and the map it was searched on.
+/// One whole reverse field to `goal`.
 struct Kept {
     goal: Pos,
-    timing: Timing,
-    bounds: Bounds,
-    /// [`node_mark`] of every node of the map.
-    marks: Vec<u8>,
+    over: Over,
     field: DistField<Vec<PlanCell>>,
 }
 
 impl Kept {
     fn bytes(&self) -> usize {
-        self.marks.len() + min_cells(self.bounds.area()) * size_of::<PlanCell>()
-    }
-
-    /// Whether this is the field to `goal` with `timing` over a map that
-    /// reads as `map`.
-    fn is_for<M>(&self, map: &KnownMap<M>, timing: Timing, goal: Pos) -> bool
-    where
-        M: AsRef<[Block]> + AsMut<[Block]>,
-    {
-        self.goal == goal
-            && self.timing == timing
-            && self.bounds == map.bounds()
-            && self
-                .marks
-                .iter()
-                .enumerate()
-                .all(|(i, &m)| node_mark(map, i) == m)
+        min_cells(self.over.bounds.area()) * size_of::<PlanCell>()
     }
 }
 
@@ -107,9 +106,10 @@ impl SharedFields<Vec<Block>, Vec<PlanCell>> for HostFields {
         // A poisoned lock only means another thread panicked while holding
         // it: every entry in it is whole.
         let kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        let over = Over::of(map, timing);
         kept.iter()
             .rev()
-            .find(|k| k.is_for(map, timing, goal))
+            .find(|k| k.goal == goal && k.over == over)
             .is_some_and(|k| field.copy_reverse_from(&k.field, map))
     }
 
@@ -127,16 +127,14 @@ impl SharedFields<Vec<Block>, Vec<PlanCell>> for HostFields {
         }
         let new = Kept {
             goal,
-            timing,
-            bounds,
-            marks: (0..bounds.area()).map(|i| node_mark(map, i)).collect(),
+            over: Over::of(map, timing),
             field: copy,
         };
         if new.bytes() > MAX_BYTES {
             return;
         }
         let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
-        if kept.iter().any(|k| k.is_for(map, timing, goal)) {
+        if kept.iter().any(|k| k.goal == goal && k.over == new.over) {
             return;
         }
         kept.push_back(new);
@@ -146,23 +144,19 @@ impl SharedFields<Vec<Block>, Vec<PlanCell>> for HostFields {
     }
 
     fn home_depth(&self, map: &KnownMap<Vec<Block>>, timing: Timing, home: Pos) -> Option<u64> {
-        let (bounds, print) = (map.bounds(), map.print());
+        let over = Over::of(map, timing);
         let depths = self.depths.lock().unwrap_or_else(|e| e.into_inner());
         depths
             .iter()
             .rev()
-            .find(|d| {
-                d.home == home && d.timing == timing && d.bounds == bounds && d.print == print
-            })
+            .find(|d| d.home == home && d.over == over)
             .map(|d| d.depth)
     }
 
     fn keep_home_depth(&self, map: &KnownMap<Vec<Block>>, timing: Timing, home: Pos, depth: u64) {
         let new = Depth {
             home,
-            timing,
-            bounds: map.bounds(),
-            print: map.print(),
+            over: Over::of(map, timing),
             depth,
         };
         let mut depths = self.depths.lock().unwrap_or_else(|e| e.into_inner());

@@ -16,10 +16,10 @@ use crate::timing::Timing;
 /// fields are too. On a 256² maze with 16 robots those searches were a
 /// fifth of the homecoming (docs/results/performance.md, stop 51).
 ///
-/// A host hands a field over only for a map that reads exactly as the one
-/// it was searched on ([`crate::path::node_mark`] of every node), so what
-/// it holds never changes a decision (see
-/// [`DistField::copy_reverse_from`]).
+/// A host hands a field (or a depth) over only for a map with the print
+/// of the one it was worked out on ([`crate::map::MapPrint`]: maps that
+/// read the same at every node), so what it holds never changes a decision
+/// (see [`DistField::copy_reverse_from`]).
 pub trait SharedFields<M, F>: Sync {
     /// Makes `field` the whole reverse field to `goal` over `map` with
     /// `timing`, if one is kept for a map that reads the same; whether it

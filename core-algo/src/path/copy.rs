@@ -17,7 +17,8 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
     /// [`DistField::compute_reverse`] without marks, as if it had been
     /// searched over `map`. The caller vouches that `map` reads exactly as
     /// the map `from` was searched over ([`node_mark`](super::node_mark)
-    /// of every node): a reverse search reads nothing else of the map, so
+    /// of every node, as equal [`MapPrint`](crate::map::MapPrint)s tell):
+    /// a reverse search reads nothing else of the map, so
     /// the copy is what a search over `map` would have left. Whether it
     /// copied: `from` must be such a field, of the same window and scratch
     /// size as this one.
