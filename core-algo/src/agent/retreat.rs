@@ -366,6 +366,10 @@ where
         let Some((theirs, rest)) = self.fields.split_first_mut() else {
             return false;
         };
+        // Marked, every `path_passes` below costs O(1): walked for each
+        // node of our way home, they were a twentieth of a 16-robot maze's
+        // homecoming (docs/results/performance.md, stop 55).
+        theirs.mark_way(map, goal);
         // Past where our way left its way.
         if let Some(leave) = r
             .leave
