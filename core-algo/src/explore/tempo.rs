@@ -110,198 +110,13 @@ use crate::map::Block;
 use crate::path::{DistField, Flow, PlanCell, PlanError};
 use crate::timing::Ticks;
 use commitment::{Commitment, FarRule};
+use left_out::{keeping_far, outside_cluster};
 
 mod commitment;
+mod config;
+mod left_out;
 
-/// Tempo's knobs; [`Default`] holds the benchmarked values.
-#[derive(Clone, Copy, Debug)]
-pub struct TempoConfig {
-    /// Extra cost, in edges, of a frontier node with three visited
-    /// neighbours.
-    pub deduce_penalty_edges: u32,
-    /// In the endgame, minimise the largest travel plus way home.
-    pub endgame_return: bool,
-    /// Keep a robot's share while the map is unchanged instead of
-    /// re-assigning the team at every node (see `Commitment`).
-    pub keep_share: bool,
-    /// A robot without a share goes home.
-    pub idle_home: bool,
-    /// A robot without a share waits where it is (it decides again when the
-    /// map grows); takes precedence over `idle_home`.
-    pub idle_stay: bool,
-    /// With `idle_stay`: a robot without a share still trails to its
-    /// nearest frontier node when that is at most this many edges of time
-    /// away (0: never)...
-    pub trail_edges: u32,
-    /// ...while the team has at most this many robots: beyond, idle robots
-    /// wait (see the module docs).
-    pub trail_team: usize,
-    /// A team with at least this many nodes of the map window per robot
-    /// trails any distance, not only `trail_edges` (0: never): in a sparse
-    /// team trailers rarely jam, and in a large maze the work is often far
-    /// down a corridor.
-    pub trail_far_nodes_per_robot: u32,
-    /// Teams of at most this many robots collect every robot's k cheapest
-    /// frontier nodes; larger ones start from 4 each and prove the
-    /// assignment optimal, growing picks where the proof fails (see
-    /// `assign::Picks`). Both find a min-sum optimum, but they break ties
-    /// differently: on small fields, where collecting costs little, the
-    /// eager ties measured 0.6 % shorter makespans.
-    pub eager_team: usize,
-    /// Candidates closer than this Manhattan distance to a candidate taken
-    /// already are skipped, so that robots split into regions.
-    pub spread: u32,
-    /// Assign on squared travel times (in edges): a convex cost that
-    /// balances the robots' shares, between min-sum and min-max.
-    pub squared: bool,
-    /// Percent of a candidate's distance from the robot's home (Manhattan,
-    /// in edges) taken off its cost: far frontier nodes first, so that what
-    /// is left at the end lies near home, on the way back.
-    pub home_pull_pct: u32,
-    /// With `keep_share`: map changes a kept share survives before the
-    /// team is re-assigned (0: only an unchanged map keeps it, which loses
-    /// no optimal assignment; see `Commitment`).
-    pub share_slack: u32,
-    /// With `keep_share`: a robot on a corridor node (two known arms) keeps
-    /// its share whatever changed in the map, as long as the share is still
-    /// a frontier node, and decides afresh at the next junction. In a
-    /// corridor it can only go on or turn back, and a fresh decision chose
-    /// another share in one of 13 corridor decisions of a 16-robot 64²
-    /// maze; a full decision at every corridor node was a quarter of such
-    /// a run's decisions, each growing fields over most of the maze. Not
-    /// exact, unlike an unchanged map:
-    /// measured neutral on small and 64² fields and 4–5 % shorter on large
-    /// mazes (docs/results/performance.md, stop 26).
-    pub corridor_keeps_share: bool,
-    /// With `keep_share`: in teams of more than this many robots, on a
-    /// maze-like map (at least half the visited nodes with two arms, as
-    /// for jumping searches), a robot that reaches its share and finds a
-    /// corridor node there, leading on to a frontier node no team mate has
-    /// announced, takes that node as its next share without re-assigning
-    /// the team (`Commitment::onward`). Not exact, like
-    /// `corridor_keeps_share`: on mazes every makespan measured was the
-    /// same; on rooms fields, where few nodes are corridors, single runs
-    /// went −2.9 % to +2.4 % and not faster (docs/results/performance.md,
-    /// stop 52).
-    pub corridor_extends_team: usize,
-    /// Teams of more than this many robots break ties between equally
-    /// cheap assignments by a tie-break that every robot computes alike
-    /// (see the module docs). Small
-    /// teams keep the Hungarian's own order (the deciding robot's nearest
-    /// frontier node first), which measured 1.5 % shorter on 12² and 16²
-    /// fields; teams of 10 and 16 on 40² fields were 3.6 % shorter with
-    /// the tie-break (docs/results/performance.md, stop 28). The team is
-    /// the one the deciding robot knows of.
-    pub tie_break_team: usize,
-    /// Extra cost, in edges, of a frontier node at a team mate's announced
-    /// target, falling linearly to 0 beyond `crowd_radius` (Manhattan): a
-    /// soft push apart, like Burgard's utility discount, on top of the
-    /// min-sum assignment, which keeps robots off one node but not off
-    /// one room. In teams of at most `crowd_team` only.
-    pub crowd_penalty_edges: u32,
-    /// See `crowd_penalty_edges`.
-    pub crowd_radius: u32,
-    /// See `crowd_penalty_edges`: larger teams measured 1.5 % slower with
-    /// it (docs/results/exploration.md, stop 34).
-    pub crowd_team: usize,
-    /// With `keep_share`: a robot at least this many edges (Manhattan)
-    /// from its share keeps it whatever changed in the map, while no team
-    /// mate has announced it (0: never), and team mates leave it out of
-    /// their assignments (see the module docs). Not exact, like
-    /// `corridor_keeps_share`; without `far_nearer`, 12 lost 3 % on 40²
-    /// fields with 10 and 16 robots, 24 lost nothing.
-    pub far_keeps_share: u32,
-    /// `far_keeps_share` holds in teams of more than this many robots.
-    pub far_keeps_share_team: usize,
-    /// With `far_keeps_share`: n > 0 ends a far share when another robot
-    /// stands within 1/n of the distance of it (0: never). Without it,
-    /// rooms and mazes ran far faster (rooms 256² in about 2 minutes, not
-    /// over 9), but open and random 256² fields took 4–5 % longer: a far
-    /// robot's share was left to it even with a team mate next to it.
-    pub far_nearer: u32,
-    /// With `far_nearer`: in a team with at least this many nodes of the
-    /// map window per robot (0: never), a robot near a far share does not
-    /// end it while it heads for an announced target no farther from it
-    /// than the share. On large fields a team mate in the next room, near
-    /// by Manhattan distance but busy there, ended far shares again and
-    /// again, and every robot then searched the far robot's field. At 256²
-    /// with 16 robots (4 160 nodes each) rooms ran 2.3 to 6 times faster,
-    /// a maze 2.6 times and 30 % shorter, random up to 2.7 times, with
-    /// makespans even over the other seven runs (geometric mean 0.987,
-    /// single runs −7 % to +9 %); but 128² mazes took 4–6 % longer and
-    /// 40² fields 0.8 %, hence the limit (docs/results/performance.md,
-    /// stop 39).
-    pub far_busy_nodes_per_robot: u32,
-    /// In teams of more than `cluster_team`, robots chained by steps of at
-    /// most this Manhattan distance (in edges) between where they stand or
-    /// head form a cluster, and a deciding robot assigns only its own
-    /// cluster (0: the whole team). Team mates outside it are left out,
-    /// their announced targets with them. Off: see the module docs.
-    pub cluster_radius: u32,
-    /// See `cluster_radius`.
-    pub cluster_team: usize,
-}
-
-impl TempoConfig {
-    /// Whether a team of `robots` on a map window of `area` nodes trails
-    /// any distance (see `trail_far_nodes_per_robot`).
-    fn trails_far(&self, area: usize, robots: usize) -> bool {
-        has_per_robot(area, robots, self.trail_far_nodes_per_robot)
-    }
-
-    /// When a team of `robots` on a map window of `area` nodes keeps far
-    /// shares (see `far_keeps_share`, `far_nearer` and
-    /// `far_busy_nodes_per_robot`).
-    fn far_rule(&self, area: usize, robots: usize) -> FarRule {
-        if !self.keep_share || robots <= self.far_keeps_share_team {
-            return FarRule::default();
-        }
-        FarRule {
-            edges: self.far_keeps_share,
-            nearer: self.far_nearer,
-            nearer_busy: has_per_robot(area, robots, self.far_busy_nodes_per_robot),
-        }
-    }
-}
-
-/// Whether a team of `robots` on a map window of `area` nodes has at least
-/// `nodes` of it per robot (0: never): the size rule of the knobs that pay
-/// only on sparse teams or large fields.
-fn has_per_robot(area: usize, robots: usize, nodes: u32) -> bool {
-    nodes > 0 && area / robots.max(1) >= nodes as usize
-}
-
-impl Default for TempoConfig {
-    fn default() -> Self {
-        TempoConfig {
-            deduce_penalty_edges: 0,
-            endgame_return: false,
-            keep_share: true,
-            idle_home: true,
-            idle_stay: true,
-            trail_edges: 8,
-            trail_team: 6,
-            trail_far_nodes_per_robot: 48,
-            eager_team: 6,
-            spread: 0,
-            squared: false,
-            home_pull_pct: 25,
-            share_slack: 0,
-            corridor_keeps_share: true,
-            corridor_extends_team: 6,
-            tie_break_team: 6,
-            crowd_penalty_edges: 2,
-            crowd_radius: 4,
-            crowd_team: 6,
-            far_keeps_share: 24,
-            far_keeps_share_team: 6,
-            far_nearer: 2,
-            far_busy_nodes_per_robot: 4096,
-            cluster_radius: 0,
-            cluster_team: 6,
-        }
-    }
-}
+pub use config::TempoConfig;
 
 /// See the module docs.
 #[derive(Clone, Copy, Debug)]
@@ -359,58 +174,8 @@ where
         let kept = self.kept.get_mut(me).and_then(Option::take);
         let far = cfg.far_rule(ctx.map.bounds().area(), k);
         if let (true, Some(c)) = (cfg.keep_share, kept) {
-            if k > cfg.corridor_extends_team && super::assign::jumps_pay(ctx.map) {
-                if let Some((i, h)) = c.onward(ctx) {
-                    let d = Decision {
-                        goal: super::Goal::Frontier(ctx.map.bounds().pos(i)),
-                        next: Some(h),
-                    };
-                    self.keep(ctx, Some(i), d);
-                    return Ok(d);
-                }
-            }
-            if c.holds(ctx, cfg.share_slack, cfg.corridor_keeps_share, far) {
-                match (c.share(), fields.get_mut(me), ctx.my()) {
-                    (None, ..) => {
-                        self.keep(ctx, None, WAIT);
-                        return Ok(WAIT);
-                    }
-                    (Some(i), Some(f), Some(r)) => {
-                        let bounds = ctx.map.bounds();
-                        let goal = bounds.pos(i);
-                        // The way found last time, if the field still
-                        // holds it, before a new search: on an unchanged
-                        // map the rest of a cheapest way is a cheapest
-                        // way, and in a corridor it is kept with the share
-                        // (maze 64², 16 robots: the same run, and 4.5 s of
-                        // A* fell to 0.3 s).
-                        // Its next poses are kept with the share (see
-                        // `WayAhead`).
-                        let mut ahead = c.ahead();
-                        let on_way = bounds.index(r.pos).and_then(|at| {
-                            f.heading_after_kept(ctx.map, i, (at, r.heading), &mut ahead)
-                        });
-                        if let Some(h) = on_way {
-                            let d = Decision {
-                                goal: super::Goal::Frontier(goal),
-                                next: Some(h),
-                            };
-                            self.keep(ctx, Some(i), d);
-                            if let Some(Some(kept)) = self.kept.get_mut(me) {
-                                *kept = kept.with_ahead(ahead);
-                            }
-                            return Ok(d);
-                        }
-                        if f.astar(ctx.map, ctx.timing, r.pos, r.heading, goal)?
-                            .is_some()
-                        {
-                            let d = explore_decision(ctx, f, i);
-                            self.keep(ctx, Some(i), d);
-                            return Ok(d);
-                        }
-                    }
-                    _ => {}
-                }
+            if let Some(d) = self.kept_share(ctx, fields, c, far)? {
+                return Ok(d);
             }
         }
         let edge = i64::from(ctx.timing.edge.max(1));
@@ -613,102 +378,78 @@ where
     }
 }
 
-/// The team mates that keep a far share, as each will (see
-/// `Commitment::holds`): the frontier node each announced, where
-/// `commitment::keeps_far` holds for it (far from it, no other robot
-/// announcing it or, with `far.1`, standing near it). They are left out
-/// of the deciding robot's assignment (bit j: robot j), their shares with
-/// them, and their fields are not searched: robots on a long way to work
-/// cost most to search and, keeping their shares, would not change. Never
-/// in the endgame (fewer frontier nodes than robots), where the reverse
-/// searches look for every robot.
-fn keeping_far<M>(ctx: &Context<'_, M>, far: FarRule) -> (u32, [Option<usize>; super::MAX_ROBOTS])
-where
-    M: AsRef<[Block]> + AsMut<[Block]>,
-{
-    let mut left_out = 0u32;
-    let mut shares = [None; super::MAX_ROBOTS];
-    let map = ctx.map;
-    if far.edges == 0 || map.frontier_len() < ctx.robots.len() {
-        return (left_out, shares);
-    }
-    for (j, r) in ctx.robots.iter().enumerate() {
-        let Some(t) = r.target.filter(|_| j != ctx.me) else {
-            continue;
-        };
-        let share = map.bounds().index(t).filter(|&i| map.is_frontier_at(i));
-        if let (Some(i), Some(slot)) = (share, shares.get_mut(j)) {
-            if commitment::keeps_far(ctx, j, t, far) {
-                *slot = Some(i);
-                left_out |= 1 << (j % 32);
-            }
-        }
-    }
-    (left_out, shares)
-}
-
-/// Leaves out of the deciding robot's assignment (bit j in `left_out`,
-/// the announced target in `shares`) every team mate outside its cluster:
-/// the robots it reaches by steps of at most `radius` edges (Manhattan)
-/// from robot to robot. Every robot of a cluster finds the same cluster
-/// from the same views, so they agree on its assignment; robots of
-/// different clusters stand far apart, and each leaves the others'
-/// announced targets to them. Not in the endgame (fewer frontier nodes
-/// than robots), as with `keeping_far`.
-fn outside_cluster<M>(
-    ctx: &Context<'_, M>,
-    radius: u32,
-    left_out: &mut u32,
-    shares: &mut [Option<usize>; super::MAX_ROBOTS],
-) where
-    M: AsRef<[Block]> + AsMut<[Block]>,
-{
-    let map = ctx.map;
-    let robots = ctx.robots;
-    if radius == 0 || map.frontier_len() < robots.len() {
-        return;
-    }
-    // Two robots are close if where they stand or where they head lie
-    // within `radius` of each other.
-    let close = |a: &super::RobotView, b: &super::RobotView| {
-        let pa = [Some(a.pos), a.target];
-        let pb = [Some(b.pos), b.target];
-        pa.iter()
-            .flatten()
-            .any(|p| pb.iter().flatten().any(|q| p.manhattan(*q) <= radius))
-    };
-    // One bit per robot, as in `left_out`: the cluster grows from the
-    // deciding robot, each member looked at once for the robots close to it.
-    let holds = |mask: u32, j: usize| is_left_out(mask, j);
-    let mut inside = 1u32 << (ctx.me % 32);
-    let mut todo = inside;
-    while todo != 0 {
-        let o = todo.trailing_zeros() as usize;
-        todo &= todo - 1;
-        let Some(x) = robots.get(o) else { continue };
-        for (j, r) in robots.iter().enumerate() {
-            if !holds(inside, j) && close(x, r) {
-                inside |= 1 << (j % 32);
-                todo |= 1 << (j % 32);
-            }
-        }
-    }
-    for (j, r) in robots.iter().enumerate() {
-        if holds(inside, j) || holds(*left_out, j) {
-            continue;
-        }
-        *left_out |= 1 << (j % 32);
-        let share = r
-            .target
-            .and_then(|t| map.bounds().index(t))
-            .filter(|&i| map.is_frontier_at(i));
-        if let Some(slot) = shares.get_mut(j) {
-            *slot = share;
-        }
-    }
-}
-
 impl Tempo {
+    /// The decision a kept share gives without re-assigning the team
+    /// (`Commitment::onward`, then `Commitment::holds`): `None` where the
+    /// team must be assigned afresh.
+    fn kept_share<M, F>(
+        &mut self,
+        ctx: &Context<'_, M>,
+        fields: &mut [DistField<F>],
+        c: Commitment,
+        far: FarRule,
+    ) -> Result<Option<Decision>, PlanError>
+    where
+        M: AsRef<[Block]> + AsMut<[Block]>,
+        F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+    {
+        let (me, k, cfg) = (ctx.me, ctx.robots.len(), self.config);
+        if k > cfg.corridor_extends_team && super::assign::jumps_pay(ctx.map) {
+            if let Some((i, h)) = c.onward(ctx) {
+                let d = Decision {
+                    goal: super::Goal::Frontier(ctx.map.bounds().pos(i)),
+                    next: Some(h),
+                };
+                self.keep(ctx, Some(i), d);
+                return Ok(Some(d));
+            }
+        }
+        if c.holds(ctx, cfg.share_slack, cfg.corridor_keeps_share, far) {
+            match (c.share(), fields.get_mut(me), ctx.my()) {
+                (None, ..) => {
+                    self.keep(ctx, None, WAIT);
+                    return Ok(Some(WAIT));
+                }
+                (Some(i), Some(f), Some(r)) => {
+                    let bounds = ctx.map.bounds();
+                    let goal = bounds.pos(i);
+                    // The way found last time, if the field still
+                    // holds it, before a new search: on an unchanged
+                    // map the rest of a cheapest way is a cheapest
+                    // way, and in a corridor it is kept with the share
+                    // (maze 64², 16 robots: the same run, and 4.5 s of
+                    // A* fell to 0.3 s).
+                    // Its next poses are kept with the share (see
+                    // `WayAhead`).
+                    let mut ahead = c.ahead();
+                    let on_way = bounds.index(r.pos).and_then(|at| {
+                        f.heading_after_kept(ctx.map, i, (at, r.heading), &mut ahead)
+                    });
+                    if let Some(h) = on_way {
+                        let d = Decision {
+                            goal: super::Goal::Frontier(goal),
+                            next: Some(h),
+                        };
+                        self.keep(ctx, Some(i), d);
+                        if let Some(Some(kept)) = self.kept.get_mut(me) {
+                            *kept = kept.with_ahead(ahead);
+                        }
+                        return Ok(Some(d));
+                    }
+                    if f.astar(ctx.map, ctx.timing, r.pos, r.heading, goal)?
+                        .is_some()
+                    {
+                        let d = explore_decision(ctx, f, i);
+                        self.keep(ctx, Some(i), d);
+                        return Ok(Some(d));
+                    }
+                }
+                _ => {}
+            }
+        }
+        Ok(None)
+    }
+
     /// Remembers the share (`Some` frontier node) or the wait of the robot
     /// deciding `d`.
     fn keep<M>(&mut self, ctx: &Context<'_, M>, share: Option<usize>, d: Decision)
