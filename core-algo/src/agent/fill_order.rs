@@ -92,6 +92,102 @@ where
     false
 }
 
+/// The fill order as an agent knows it.
+impl<M, F, S, const K: usize> Agent<M, F, S, K>
+where
+    M: AsRef<[Block]> + AsMut<[Block]>,
+    F: AsRef<[PlanCell]> + AsMut<[PlanCell]>,
+    S: Strategy<M, F>,
+{
+    /// Whether team mate `i`'s home fills before ours: known only once the
+    /// map is complete and the depths are computed.
+    pub(super) fn goes_first(&self, i: usize) -> bool {
+        self.depth_known && self.first_by(&self.depth, i)
+    }
+
+    /// Whether team mate `i`'s home fills before ours by the fill ranks
+    /// `depth`, on the complete map.
+    pub(super) fn first_by(&self, depth: &[u64; MAX_ROBOTS], i: usize) -> bool {
+        let me = self.id.index();
+        let (Some(&theirs), Some(&mine)) = (depth.get(i), depth.get(me)) else {
+            return false;
+        };
+        self.map.is_complete()
+            && i != me
+            && (theirs, core::cmp::Reverse(i)) > (mine, core::cmp::Reverse(me))
+    }
+
+    /// Computes the order in which homes fill (`depth`, see `fill_order`)
+    /// once the map is complete: every robot gets the same.
+    pub(super) fn know_fill_order(&mut self) {
+        if self.depth_known || !self.map.is_complete() {
+            return;
+        }
+        self.depth_known = true;
+        self.fill_ranks_once();
+    }
+
+    /// The fill ranks in `depth`, computed the first time they are asked
+    /// for (on the complete map, which no longer changes): a yield wait
+    /// asks at every tick, and each computation searches the map once per
+    /// home.
+    pub(super) fn fill_ranks_once(&mut self) -> [u64; MAX_ROBOTS] {
+        if !self.depth_ready {
+            self.depth = self.fill_ranks();
+            self.depth_ready = true;
+        }
+        self.depth
+    }
+
+    /// The fill ranks of every robot's home on the complete map (see
+    /// `fill_order`); all zero without a planner field.
+    fn fill_ranks(&mut self) -> [u64; MAX_ROBOTS] {
+        let me = self.id.index();
+        let (map, timing, shared) = (&self.map, self.config.timing, self.shared);
+        let Some(field) = self.fields.first_mut() else {
+            return [0; MAX_ROBOTS];
+        };
+        let homes = core::iter::once((me, self.home)).chain(
+            self.peers
+                .iter()
+                .enumerate()
+                .filter(|(i, p)| *i != me && p.known)
+                .map(|(i, p)| (i, p.home)),
+        );
+        // A home's depth: its total distance to every node (a dead end
+        // scores high, a junction low).
+        let mut depths: Vec<(usize, Pos, u64), MAX_ROBOTS> = Vec::new();
+        let homes: Vec<(usize, Pos), MAX_ROBOTS> = homes.collect();
+        let last = homes.len().saturating_sub(1);
+        for (n, &(i, home)) in homes.iter().enumerate() {
+            // Worked out once per team where a host runs the whole team;
+            // but the last home is always searched, so that the field ends
+            // holding what it always did (later decisions read ways from
+            // whatever field holds one, see `round_settled_mates`).
+            let kept = shared
+                .filter(|_| n < last)
+                .and_then(|s| s.home_depth(map, timing, home));
+            let depth = kept.unwrap_or_else(|| {
+                let mut sum: u64 = 0;
+                let ok = field
+                    .compute(map, timing, home, Heading::North, |_, d| {
+                        sum = sum.saturating_add(u64::from(d));
+                        Flow::Continue
+                    })
+                    .is_ok();
+                if let (true, Some(s)) = (ok, shared) {
+                    s.keep_home_depth(map, timing, home, sum);
+                }
+                if ok { sum } else { 0 }
+            });
+            let _ = depths.push((i, home, depth));
+        }
+        // Depth orders the homes where the field leaves a choice; a home
+        // entered only through others fills before them.
+        fill_ranks(map, &depths)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
