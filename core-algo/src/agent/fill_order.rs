@@ -117,7 +117,7 @@ where
             && (theirs, core::cmp::Reverse(i)) > (mine, core::cmp::Reverse(me))
     }
 
-    /// Computes the order in which homes fill (`depth`, see `fill_order`)
+    /// Computes the order in which homes fill (`depth`, see the module docs)
     /// once the map is complete: every robot gets the same.
     pub(super) fn know_fill_order(&mut self) {
         if self.depth_known || !self.map.is_complete() {
@@ -140,7 +140,7 @@ where
     }
 
     /// The fill ranks of every robot's home on the complete map (see
-    /// `fill_order`); all zero without a planner field.
+    /// [`fill_ranks`]); all zero without a planner field.
     fn fill_ranks(&mut self) -> [u64; MAX_ROBOTS] {
         let me = self.id.index();
         let (map, timing, shared) = (&self.map, self.config.timing, self.shared);
