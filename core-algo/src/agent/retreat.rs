@@ -33,7 +33,11 @@ where
     /// Plans team mate `b`'s way from where it stands in the first field:
     /// to its retreat spot if `chained`, else home (or, while the map
     /// grows, to its target); the team mate and the goal's node if the way
-    /// was found.
+    /// was found. The way is marked, as every caller asks whether it
+    /// passes nodes (`DistField::path_passes`, then O(1)): `bumper_clear`
+    /// asks for every node of our own way home, which walked the bumper's
+    /// way back each time, a twentieth of a 16-robot maze's homecoming
+    /// (docs/results/performance.md, stop 55).
     pub(super) fn plan_way_of(&mut self, b: usize, chained: bool) -> Option<(Peer, usize)> {
         let q = self.peers.get(b).copied()?;
         let goal = self
@@ -49,7 +53,11 @@ where
         let reached = field
             .compute_to(&self.map, self.config.timing, q.pos, q.heading, goal)
             .is_ok();
-        (reached && field.dist_at(goal).is_some()).then_some((q, goal))
+        let found = reached && field.dist_at(goal).is_some();
+        if found {
+            field.mark_way(&self.map, goal);
+        }
+        found.then_some((q, goal))
     }
 
     /// Plans a retreat out of team mate `b`'s way (see `plan_way_of`) and
@@ -126,7 +134,6 @@ where
             walks: 0,
             ready: false,
         };
-        theirs.mark_way(map, goal);
         let theirs = &*theirs;
         // Another team mate's home or place: never a spot, nor room aside.
         let claimed = |v: usize| {
@@ -366,10 +373,6 @@ where
         let Some((theirs, rest)) = self.fields.split_first_mut() else {
             return false;
         };
-        // Marked, every `path_passes` below costs O(1): walked for each
-        // node of our way home, they were a twentieth of a 16-robot maze's
-        // homecoming (docs/results/performance.md, stop 55).
-        theirs.mark_way(map, goal);
         // Past where our way left its way.
         if let Some(leave) = r
             .leave
