@@ -391,9 +391,10 @@ fn tempo_on_every_core_runs_as_on_one() {
 /// Sixteen robots whose team-mate searches are taken over from the ones
 /// before them where the map reads the same (`phone_sim::memo`) run
 /// exactly as when each robot searches for itself, on rooms, a maze and
-/// a random field (the maze's searches jump along corridors); and most
-/// searches (on the maze, half), and most rests of searches grown in
-/// later rounds, are taken over.
+/// a random field; and most searches, and most rests of searches grown
+/// in later rounds, are taken over. On the maze the searches jump along
+/// corridors, and jumping searches are not kept (stop 56): once the map
+/// reads as a maze, the memo stays idle.
 #[test]
 fn searches_taken_over_from_a_memo_change_no_run() {
     static CORES: phone_sim::cores::HostCores = phone_sim::cores::HostCores::new();
@@ -421,18 +422,23 @@ fn searches_taken_over_from_a_memo_change_no_run() {
         let after = CORES.memo().counts();
         let took = after.taken_over - before.taken_over;
         let wrote = after.recorded - before.recorded;
-        // On the maze, robots that go on through corridors without a full
-        // decision (stop 52) ask for fewer searches, so each one written
-        // down is taken over less often: 268 of 343 there, against about
-        // eight or nine to one on rooms and random.
-        let most = if kind == Kind::Maze { 2 * took } else { took };
+        if kind == Kind::Maze {
+            // Only the first few searches, before the map reads as a
+            // maze, are written down (one here).
+            assert!(
+                wrote + after.recorded_after - before.recorded_after <= 8,
+                "{}: {wrote} written down",
+                f.name()
+            );
+            continue;
+        }
+        // About eight or nine taken over for every one written down.
         assert!(
-            most > wrote,
+            took > wrote,
             "{}: {took} taken over, {wrote} written down",
             f.name()
         );
-        // The rests grown in later rounds too: on the maze, with eight
-        // robots, about two in five of them.
+        // The rests grown in later rounds too.
         let took = after.after - before.after;
         assert!(took > 0, "{}: no rest taken over", f.name());
         rests.0 += took;

@@ -113,6 +113,7 @@ impl Picks {
     /// frontier nodes are known: from scratch the first time, resumed after
     /// [`Picks::more`]. With `spread`, nodes that near a `taken` one are
     /// skipped (then picks must not grow: `taken` changes). With a `memo`,
+    /// on a map where searches do not jump ([`jumps_pay`]),
     /// a search from scratch takes over a recorded one where it can (see
     /// [`Picks::take_over`]), or a plain one in part (see
     /// `DistField::take_over_before`), and is written down where it
@@ -154,6 +155,13 @@ impl Picks {
             return self.go_on(map, &to, field, memo);
         }
         let jumping = jumps_pay(map);
+        // A jumping search (a maze-like map) is neither kept nor taken
+        // over: in a maze the map changes somewhere along most searches
+        // before a team mate could take them over, and writing every one
+        // down cost more than the few taken over saved (maze 256², 16
+        // robots: 93.5 s without against 98.3 s; docs/results/
+        // performance.md, stop 56). The same decisions either way.
+        let memo = memo.filter(|_| !jumping);
         let key = field.search_key(map, timing, (pos, heading), jumping);
         let (Some(memo), Some(key)) = (memo, key) else {
             return if jumping {
