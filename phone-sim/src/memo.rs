@@ -195,11 +195,18 @@ impl HostMemo {
         after: u64,
         search: &mut dyn FnMut(&mut dyn SearchRecorder),
     ) -> Option<u64> {
-        let mut rec = Recorder::default();
-        search(&mut rec);
-        let (Some(state), false) = (rec.state.take(), rec.too_long) else {
-            return None;
-        };
+        let written = SCRATCH.with(|scratch| {
+            let mut rec = scratch.take();
+            rec.clear();
+            search(&mut rec);
+            let out = match (rec.state.take(), rec.too_long) {
+                (Some(state), false) => Some((rec.to_owned_exact(), state)),
+                _ => None,
+            };
+            scratch.set(rec);
+            out
+        });
+        let (rec, state) = written?;
         let count = if after == 0 {
             &self.recorded
         } else {
@@ -269,6 +276,16 @@ impl SearchMemo for HostMemo {
     }
 }
 
+thread_local! {
+    /// Each thread's recorder, kept between searches with its capacity:
+    /// a search is written down into it and copied out at its exact size,
+    /// rather than grown by doubling in a fresh one, whose copies and spare
+    /// capacity cost time and the memo's room (rooms 128², 16 robots:
+    /// 17.6 s against 16.9 s; docs/results/performance.md, stop 56). It
+    /// holds at most one search of `MAX_REACHED` nodes.
+    static SCRATCH: std::cell::Cell<Recorder> = std::cell::Cell::new(Recorder::default());
+}
+
 /// A search being written down.
 #[derive(Default)]
 struct Recorder {
@@ -278,6 +295,32 @@ struct Recorder {
     queued: [Vec<u32>; 2],
     state: Option<SearchState>,
     too_long: bool,
+}
+
+impl Recorder {
+    /// Empty, its capacity kept.
+    fn clear(&mut self) {
+        self.reached.clear();
+        self.read.clear();
+        self.cells.clear();
+        for q in &mut self.queued {
+            q.clear();
+        }
+        self.state = None;
+        self.too_long = false;
+    }
+
+    /// What it wrote down, in buffers of the exact size.
+    fn to_owned_exact(&self) -> Recorder {
+        Recorder {
+            reached: self.reached.clone(),
+            read: self.read.clone(),
+            cells: self.cells.clone(),
+            queued: self.queued.clone(),
+            state: None,
+            too_long: false,
+        }
+    }
 }
 
 impl SearchRecorder for Recorder {
