@@ -103,6 +103,7 @@ fn bench_explore(c: &mut Criterion) {
             timing: t,
             robots: &cs.robots,
             me: 0,
+            tree: None,
         };
         let mut seed = SeedExplorer::default();
         g.bench_function(BenchmarkId::new("explorer/decide", &cs.name), |bch| {

@@ -57,6 +57,7 @@ fn bench_tempo(c: &mut Criterion) {
                 timing: Timing::DEFAULT,
                 robots: &robots,
                 me: 0,
+                tree: None,
             };
             // Without the home pull the floor is exact (cost is travel):
             // the gap between the two is what the pull's slack costs.
@@ -125,6 +126,7 @@ fn bench_endgame(c: &mut Criterion) {
             timing: Timing::DEFAULT,
             robots: &robots,
             me: 0,
+            tree: None,
         };
         // Every decision in full: no share kept from the last one.
         let full = TempoConfig {

@@ -38,6 +38,7 @@ pub use ahead::{SearchId, WAY_AHEAD, WayAhead};
 use core::fmt;
 pub use corridor::JUMP_SLOTS;
 pub use exits::CorridorExits;
+pub use forest::Forest;
 pub use record::{
     Reached, RecordedSearch, SearchKey, SearchMemo, SearchRecorder, SearchState,
     first_read_otherwise, node_mark, reads_same,
@@ -611,6 +612,7 @@ mod copy;
 mod corridor;
 mod descent;
 mod exits;
+mod forest;
 mod record;
 mod refresh;
 mod reverse;

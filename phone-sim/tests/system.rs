@@ -455,7 +455,8 @@ fn searches_taken_over_from_a_memo_change_no_run() {
 
 /// The endgame's column searches kept once for the whole team (stop 53,
 /// `phone_sim::columns`): the same runs as a team whose robots each search
-/// their own, and most searches lent out again.
+/// their own, and most searches lent out again; on a maze none at all, its
+/// times read off the forest (stop 57).
 #[test]
 fn column_searches_shared_by_the_team_change_no_run() {
     static CORES: phone_sim::cores::HostCores = phone_sim::cores::HostCores::new();
@@ -475,6 +476,12 @@ fn column_searches_shared_by_the_team_change_no_run() {
             CORES.columns().counts().0 - taken,
             CORES.columns().counts().1 - given,
         );
+        if kind == Kind::Maze {
+            // A maze's known graph is a forest: its times are read off
+            // the tree (`core_algo::path::Forest`), and no column searched.
+            assert_eq!((taken, given), (0, 0), "{}", f.name());
+            continue;
+        }
         // Every robot decides on the same map: a search given back is
         // mostly taken again, by the next robot or the next round.
         assert!(

@@ -77,11 +77,15 @@ where
         }
         let (views, n) = self.views();
         let robots = views.get(..n).unwrap_or(&views);
+        if let Some(f) = self.forest.as_mut() {
+            f.sync(&self.map);
+        }
         let ctx = Context {
             map: &self.map,
             timing: self.config.timing,
             robots,
             me: self.id.index(),
+            tree: self.forest.as_ref().map(|f| f.view()),
         };
         let decision = self
             .strategy

@@ -137,6 +137,7 @@ where
                 break;
             }
             let _ = self.map.visit(pos, arms, self.id);
+            self.keep_forest();
             push(out, Command::Report { pos, arms, heading });
         }
         let frames = *self.localizer.frames();

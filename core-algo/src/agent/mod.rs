@@ -33,7 +33,7 @@ use crate::explore::{Context, Decision, Goal, MAX_ROBOTS, RobotView, Strategy};
 use crate::geometry::{Arms, Heading, Pos, Turn};
 use crate::localize::Localizer;
 use crate::map::{Block, KnownMap, MapError};
-use crate::path::{DistField, Flow, PlanCell};
+use crate::path::{DistField, Flow, Forest, PlanCell};
 use crate::team::RobotId;
 use crate::timing::{TICK_MS, Ticks};
 use heapless::Vec;
@@ -169,6 +169,10 @@ pub struct Agent<M: 'static, F: 'static, S, const K: usize> {
     /// Where a host keeps whole fields for every agent it runs (see
     /// [`SharedFields`]); `None` on a robot.
     shared: Option<&'static dyn SharedFields<M, F>>,
+    /// The known graph as a forest, kept up with every visit, where a
+    /// host gives it storage: on a maze the strategy reads travel times
+    /// off it instead of searching (see [`Forest`]). `None` on a robot.
+    forest: Option<Forest<F>>,
 }
 
 impl<M, F, S, const K: usize> Agent<M, F, S, K>
@@ -218,6 +222,25 @@ where
             ignored: 0,
             localizer: Localizer::new(id),
             shared: None,
+            forest: None,
+        }
+    }
+
+    /// The same agent, keeping its known graph as a [`Forest`] in
+    /// `storage` (one planner cell per node of the map window): the same
+    /// decisions, sooner, on mazes.
+    pub fn with_forest(self, storage: F) -> Self {
+        Agent {
+            forest: Some(Forest::new(storage)),
+            ..self
+        }
+    }
+
+    /// Brings the forest up to the map after a visit (a visit at a time,
+    /// so the map's log of changes always reaches back to the last one).
+    fn keep_forest(&mut self) {
+        if let Some(f) = self.forest.as_mut() {
+            f.sync(&self.map);
         }
     }
 
@@ -351,7 +374,9 @@ where
         self.motion = Motion::Standing;
         let escaped = core::mem::take(&mut self.escaping);
         self.retries = 0;
-        match self.map.visit(self.pos, arms, self.id) {
+        let visited = self.map.visit(self.pos, arms, self.id);
+        self.keep_forest();
+        match visited {
             Ok(_) => {}
             Err(MapError::Conflict(_)) => {
                 // Our own sensors disagree with the team's map: trust the
@@ -483,6 +508,7 @@ where
                 peer.heading = heading;
                 if let Ok(v) = self.map.visit(pos, arms, id) {
                     self.map_grew |= v.first;
+                    self.keep_forest();
                 }
             }
             PeerNews::Intent { target } => {

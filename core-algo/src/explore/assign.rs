@@ -12,7 +12,7 @@
 
 use super::{Context, Decision, MAX_ROBOTS, Strategy, Workers, explore_decision, nearest_or_home};
 use crate::map::Block;
-use crate::path::{DistField, Flow, PlanCell, PlanError};
+use crate::path::{DistField, Flow, Forest, PlanCell, PlanError};
 use crate::timing::Ticks;
 
 /// Most candidate frontier nodes an assignment considers.
@@ -217,6 +217,18 @@ impl Candidates {
             c.clear(k);
             return Ok(true);
         }
+        // On a forest (a maze), every robot's time to every frontier node
+        // is read off the tree: the same costs the searches find, so the
+        // same optimum, which the tie-break (`reverse`) makes the one the
+        // lazy picks prove (see `Forest`).
+        if let Some(tree) = ctx
+            .tree
+            .filter(|t| reverse && lazy && spread == 0 && t.holds(ctx.map))
+        {
+            if Self::from_forest(ctx, &tree, (k, left_out), &cost, c) {
+                return Ok(true);
+            }
+        }
         if spread == 0
             && ctx.map.frontier_len() < per_robot.min(k)
             && Self::endgame(
@@ -310,6 +322,53 @@ impl Candidates {
                 return Ok(true);
             }
         }
+    }
+
+    /// Fills `c` with every frontier node as a column and every robot's
+    /// cost for it, its travel read off `tree` (robots in `left_out`
+    /// excluded, as `cost` excludes them); `false`, `c` spoilt, where the
+    /// tree cannot tell (a robot outside it, more frontier nodes than
+    /// columns).
+    fn from_forest<M: AsRef<[Block]> + AsMut<[Block]>>(
+        ctx: &Context<'_, M>,
+        tree: &Forest<&[PlanCell]>,
+        (k, left_out): (usize, u32),
+        cost: &impl Fn(usize, usize, Ticks) -> Option<i64>,
+        c: &mut Candidates,
+    ) -> bool {
+        let (map, bounds) = (ctx.map, ctx.map.bounds());
+        if map.frontier_len() > MAX_CANDIDATES {
+            return false;
+        }
+        let mut starts = [None; MAX_ROBOTS];
+        for (j, (r, s)) in ctx.robots.iter().zip(starts.iter_mut()).enumerate().take(k) {
+            if is_left_out(left_out, j) {
+                continue;
+            }
+            match bounds.index(r.pos).filter(|&i| tree.holds_start(map, i)) {
+                Some(i) => *s = Some((i, r.heading)),
+                None => return false,
+            }
+        }
+        c.clear(k);
+        c.left_out = left_out;
+        for i in map.frontier().filter_map(|p| bounds.index(p)) {
+            let col = c.m;
+            let Some(slot) = c.nodes.get_mut(col) else {
+                return false;
+            };
+            *slot = i;
+            c.m += 1;
+            for (j, s) in starts.iter().enumerate().take(k) {
+                let x = s
+                    .and_then(|s| tree.travel(map, ctx.timing, s, i))
+                    .and_then(|d| cost(j, i, d));
+                if let (Some(x), Some(v)) = (x, c.cost.get_mut(j).and_then(|r| r.get_mut(col))) {
+                    *v = x.clamp(-INF + 1, INF - 1);
+                }
+            }
+        }
+        true
     }
 
     /// Adds `x` to the cost of robot `j` for column `col` (forbidden pairs

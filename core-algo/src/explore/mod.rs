@@ -17,7 +17,7 @@
 
 use crate::geometry::{Heading, Pos};
 use crate::map::{Block, KnownMap};
-use crate::path::{DistField, Flow, PlanCell, PlanError};
+use crate::path::{DistField, Flow, Forest, PlanCell, PlanError};
 use crate::timing::{Ticks, Timing};
 
 mod assign;
@@ -68,6 +68,10 @@ pub struct Context<'a, M> {
     pub robots: &'a [RobotView],
     /// The deciding robot's index in `robots`; it stands on its `pos`.
     pub me: usize,
+    /// Travel times read off the known graph where it is a forest (see
+    /// [`Forest`]), instead of searched; `None`:
+    /// search.
+    pub tree: Option<Forest<&'a [PlanCell]>>,
 }
 
 impl<M> Context<'_, M> {

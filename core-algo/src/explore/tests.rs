@@ -61,6 +61,7 @@ fn cooperation_penalty_follows_the_seed_numbers() {
         timing: Timing::DEFAULT,
         robots: &robots,
         me: 0,
+        tree: None,
     };
     let e = Timing::DEFAULT.edge;
     let cost = |p: Pos| layer.cost(&ctx, m.bounds().index(p).unwrap(), p);
@@ -122,6 +123,7 @@ fn seed_explorer_prefers_unclaimed_ground_and_ties_go_south_west() {
         timing: Timing::DEFAULT,
         robots: &robots,
         me: 0,
+        tree: None,
     };
     let d = SeedExplorer::default().decide(&ctx, &mut fields).unwrap();
     assert_eq!(d.goal, Goal::Frontier(Pos::new(2, 0)));
@@ -139,6 +141,7 @@ fn seed_explorer_prefers_unclaimed_ground_and_ties_go_south_west() {
         timing: Timing::DEFAULT,
         robots: &robots,
         me: 0,
+        tree: None,
     };
     let d = SeedExplorer::default().decide(&ctx, &mut fields).unwrap();
     assert_eq!(d.goal, Goal::Frontier(Pos::new(4, 0)));
@@ -180,6 +183,7 @@ fn tempo_explores_away_from_home_first() {
             timing: Timing::DEFAULT,
             robots: &robots,
             me: 0,
+            tree: None,
         };
         let mut fields = [DistField::new(vec![PlanCell::EMPTY; min_cells(b.area())])];
         let mut t = Tempo::new(TempoConfig {
@@ -220,6 +224,7 @@ fn tempo_trails_a_near_frontier_only_in_a_small_team() {
         timing: Timing::DEFAULT,
         robots: &robots,
         me: 0,
+        tree: None,
     };
     let mut fields: [_; 3] =
         core::array::from_fn(|_| DistField::new(vec![PlanCell::EMPTY; min_cells(b.area())]));
@@ -331,6 +336,7 @@ fn the_way_home_on_a_complete_map_is_cheapest_and_searched_once() {
             timing,
             robots: &robots,
             me: 0,
+            tree: None,
         };
         if step > 0 {
             assert!(field.is_reverse_to(&map, timing, home), "searched again");

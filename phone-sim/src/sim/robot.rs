@@ -61,6 +61,7 @@ pub fn host_agent(
         core::array::from_fn(|_| DistField::new(vec![PlanCell::EMPTY; min_cells(bounds.area())]));
     Agent::new(id, map, fields, strategy, config)
         .with_shared_fields(&crate::shared_fields::HOST_FIELDS)
+        .with_forest(vec![PlanCell::EMPTY; bounds.area()])
 }
 
 /// The firmware version simulated robots report: the same glue as the

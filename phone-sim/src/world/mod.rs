@@ -322,6 +322,7 @@ pub fn run<S: Strategy<Vec<Block>, Vec<PlanCell>> + ?Sized>(
             timing: config.timing,
             robots: &views,
             me,
+            tree: None,
         };
         let d: Decision = strategy.decide(&ctx, &mut fields)?;
         stats.decisions += 1;

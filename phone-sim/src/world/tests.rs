@@ -44,6 +44,7 @@ fn unreachable_frontier_sends_robots_home() {
         timing: Timing::DEFAULT,
         robots: &robots,
         me: 0,
+        tree: None,
     };
     let mut fields = vec![DistField::new(vec![PlanCell::EMPTY; 64])];
     let d = NearestFrontier.decide(&ctx, &mut fields).unwrap();

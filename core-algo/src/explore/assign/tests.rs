@@ -108,7 +108,7 @@ proptest! {
             r.eta = (j as u32 * 13) % 40;
         }
         let timing = Timing::DEFAULT;
-        let ctx = Context { map: &map, timing, robots: &robots, me: me % k };
+        let ctx = Context { map: &map, timing, robots: &robots, me: me % k, tree: None };
         let edge = i64::from(timing.edge);
         let per_edge = edge * i64::from(pull) / 100;
         let left_out = if map.frontier_len() < k { 0 } else { left_out };
@@ -242,7 +242,7 @@ proptest! {
                     if step == 0 { robots.push(view) } else { robots[j] = RobotView { home: robots[j].home, ..view } }
                 }
             }
-            let ctx = Context { map: &map, timing, robots: &robots, me };
+            let ctx = Context { map: &map, timing, robots: &robots, me, tree: None };
             let per_edge = i64::from(timing.edge) / 4;
             let cost = |j: usize, i: usize, d: Ticks| -> Option<i64> {
                 let r = robots.get(j)?;
@@ -322,6 +322,7 @@ fn the_lazy_endgame_searches_only_as_far_as_the_assignment_needs() {
         timing,
         robots: &robots,
         me: 1,
+        tree: None,
     };
     let searched = |lazy: bool| {
         let mut fields: Vec<_> = (0..4)

@@ -62,6 +62,7 @@ fn ctx<'a>(m: &'a KnownMap<Vec<Block>>, robots: &'a [RobotView]) -> Context<'a, 
         timing: Timing::DEFAULT,
         robots,
         me: 0,
+        tree: None,
     }
 }
 

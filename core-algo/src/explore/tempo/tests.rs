@@ -107,7 +107,7 @@ proptest! {
         let mut fields = fresh_fields(area, k);
         let mut tempo = Tempo::default();
         let first = {
-            let ctx = Context { map: &map, timing, robots: &robots, me };
+            let ctx = Context { map: &map, timing, robots: &robots, me, tree: None };
             tempo.decide(&ctx, &mut fields).unwrap()
         };
         let (Goal::Frontier(t), Some(next)) = (first.goal, first.next) else {
@@ -122,7 +122,7 @@ proptest! {
         prop_assert_eq!(best_total(&map, &robots, &[(me, Some(ti))]), best_total(&map, &robots, &[]));
         // Standing still is not where the decision sent it: decide afresh.
         {
-            let ctx = Context { map: &map, timing, robots: &robots, me };
+            let ctx = Context { map: &map, timing, robots: &robots, me, tree: None };
             let mut again = tempo;
             let fresh = Tempo::default().decide(&ctx, &mut fields).unwrap();
             prop_assert_eq!(again.decide(&ctx, &mut fields).unwrap(), fresh);
@@ -130,7 +130,7 @@ proptest! {
         let (p0, h0) = (robots[me].pos, robots[me].heading);
         robots[me].pos = b.pos(p1);
         robots[me].heading = next;
-        let ctx = Context { map: &map, timing, robots: &robots, me };
+        let ctx = Context { map: &map, timing, robots: &robots, me, tree: None };
         let kept = tempo.decide(&ctx, &mut fields).unwrap();
         prop_assert_eq!(kept.goal, Goal::Frontier(t));
         prop_assert_eq!(best_total(&map, &robots, &[(me, Some(ti))]), best_total(&map, &robots, &[]));
@@ -181,7 +181,7 @@ proptest! {
         };
         let mut tempo = Tempo::new(config);
         let mut decide = |tempo: &mut Tempo, robots: &[RobotView], j: usize| {
-            let ctx = Context { map: &map, timing, robots, me: j };
+            let ctx = Context { map: &map, timing, robots, me: j, tree: None };
             tempo.decide(&ctx, &mut fields).unwrap()
         };
         let waits = decide(&mut tempo, &robots, me);
@@ -274,6 +274,7 @@ fn ctx<'a>(map: &'a KnownMap<Vec<Block>>, robots: &'a [RobotView]) -> Context<'a
         timing: Timing::DEFAULT,
         robots,
         me: 0,
+        tree: None,
     }
 }
 
@@ -603,6 +604,7 @@ fn a_sparse_team_trails_far_and_a_crowded_one_waits() {
             timing: Timing::DEFAULT,
             robots: &robots,
             me: 1,
+            tree: None,
         };
         tempo.decide(&ctx, &mut fields).unwrap()
     };
@@ -634,6 +636,7 @@ fn a_large_team_decides_alike_whoever_decides() {
                     timing: Timing::DEFAULT,
                     robots: &robots,
                     me,
+                    tree: None,
                 };
                 let mut fields = fresh_fields(81, k);
                 let d = Tempo::new(config).decide(&ctx, &mut fields).unwrap();
@@ -669,7 +672,7 @@ proptest! {
     ) {
         let (map, robots) = random_team(w, h, seed, frac, k);
         let me = me % k;
-        let ctx = Context { map: &map, timing: Timing::DEFAULT, robots: &robots, me };
+        let ctx = Context { map: &map, timing: Timing::DEFAULT, robots: &robots, me, tree: None };
         let r = &robots[me];
         let mut fields = fresh_fields(map.bounds().area(), 2);
         let (whole, part) = fields.split_at_mut(1);
@@ -804,6 +807,7 @@ fn a_large_team_assigns_only_the_deciding_robot_s_cluster() {
             timing: Timing::DEFAULT,
             robots,
             me,
+            tree: None,
         };
         let (mut out, mut shares) = (0u32, [None; crate::explore::MAX_ROBOTS]);
         outside_cluster(&ctx, radius, &mut out, &mut shares);
@@ -839,6 +843,7 @@ fn a_large_team_assigns_only_the_deciding_robot_s_cluster() {
         timing: Timing::DEFAULT,
         robots: &few,
         me: 0,
+        tree: None,
     };
     let (mut out, mut shares) = (0u32, [None; crate::explore::MAX_ROBOTS]);
     outside_cluster(&ctx, 1, &mut out, &mut shares);
@@ -873,7 +878,7 @@ proptest! {
         let mut goals = Vec::new();
         let mut outs = Vec::new();
         for me in 0..k {
-            let ctx = Context { map: &map, timing: Timing::DEFAULT, robots: &robots, me };
+            let ctx = Context { map: &map, timing: Timing::DEFAULT, robots: &robots, me, tree: None };
             let (mut out, mut shares) = (0u32, [None; crate::explore::MAX_ROBOTS]);
             outside_cluster(&ctx, config.cluster_radius, &mut out, &mut shares);
             let mut fields = fresh_fields(1600, k);
@@ -895,6 +900,38 @@ proptest! {
                     prop_assert_ne!(pa, pb, "robots {} and {} of one cluster", a, b);
                 }
             }
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    /// On a maze, a large team's decisions read off the known graph's
+    /// forest (`Context::tree`) are the searches' decisions, whoever
+    /// decides, with announced targets or without.
+    #[test]
+    fn decisions_read_off_the_forest_are_the_searches(
+        w in 3u16..20, h in 3u16..20, seed in any::<u64>(), frac in 0.1f64..0.9,
+        k in 7usize..17, targets in any::<bool>(),
+    ) {
+        let (map, mut robots) = crate::explore::tests::random_team_in(w, h, (seed, true), frac, k);
+        if targets {
+            let frontier: Vec<Pos> = map.frontier().collect();
+            for (j, r) in robots.iter_mut().enumerate().filter(|(j, _)| j % 3 == 0) {
+                r.target = frontier.get(j % frontier.len().max(1)).copied();
+            }
+        }
+        let area = map.bounds().area();
+        let mut forest = crate::path::Forest::new(vec![PlanCell::EMPTY; area]);
+        forest.sync(&map);
+        prop_assert!(forest.holds(&map));
+        for me in 0..k {
+            let plain = Context { map: &map, timing: Timing::DEFAULT, robots: &robots, me, tree: None };
+            let read = Context { tree: Some(forest.view()), ..plain };
+            let a = Tempo::new(TempoConfig::default()).decide(&plain, &mut fresh_fields(area, k + 1));
+            let b = Tempo::new(TempoConfig::default()).decide(&read, &mut fresh_fields(area, k + 1));
+            prop_assert_eq!(a, b, "robot {}", me);
         }
     }
 }
