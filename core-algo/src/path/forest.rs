@@ -142,7 +142,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> Forest<S> {
         let (djp, jjp) = (self.depth(jp), self.jump(jp));
         // Myers: jump as far as the parent's jump's jump where the two
         // jumps are as long, else to the parent.
-        let jump = if dp - djp == djp - self.depth(jjp) {
+        let jump = if dp.saturating_sub(djp) == djp.saturating_sub(self.depth(jjp)) {
             jjp
         } else {
             p
@@ -357,7 +357,7 @@ impl<S: AsRef<[PlanCell]>> Forest<S> {
         }
         let c = self.meet(a, b)?;
         let dc = self.depth(c);
-        let edges = self.depth(a) + self.depth(b) - 2 * dc;
+        let edges = (self.depth(a) + self.depth(b)).saturating_sub(2 * dc);
         let wa = (a != c).then(|| self.ancestor(a, dc + 1));
         let wb = (b != c).then(|| self.ancestor(b, dc + 1));
         let first = match wb {
@@ -367,10 +367,10 @@ impl<S: AsRef<[PlanCell]>> Forest<S> {
         };
         let mut q = turns(h0, first);
         if let Some(wa) = wa {
-            q += self.turns_to(a) - self.turns_to(wa);
+            q += self.turns_to(a).saturating_sub(self.turns_to(wa));
         }
         if let Some(wb) = wb {
-            q += self.turns_to(b) - self.turns_to(wb);
+            q += self.turns_to(b).saturating_sub(self.turns_to(wb));
         }
         if let (Some(wa), Some(wb)) = (wa, wb) {
             q += turns(self.dir(wa, c), self.dir(c, wb));
