@@ -2,7 +2,10 @@
 //! assignment) in a team of 16, on open and maze fields of 64² and 256²
 //! nodes, about half known: the cost that dominates large-team runs
 //! (docs/results/performance.md, stop 18); `decide16-cores` the same with
-//! the team mates' searches on every core (stop 43).
+//! the team mates' searches on every core (stop 43); on the mazes, where
+//! a kept share answers those repeated decisions, `decide16-fresh`
+//! decides afresh each time and `decide16-forest` the same with every
+//! travel time read off the known tree (stop 57).
 //!
 //! `tempo/endgame16-*`: the same in a maze once fewer frontier nodes than
 //! robots are left (all but the last 12 nodes in BFS order known), where a
@@ -14,10 +17,10 @@ use conquest_benches::{bfs_known, half_known};
 use core_algo::explore::{Context, RobotView, Strategy, Tempo, TempoConfig};
 use core_algo::geometry::{Heading, Pos};
 use core_algo::map::{Block, KnownMap};
-use core_algo::path::{DistField, Flow, PlanCell, min_cells};
+use core_algo::path::{DistField, Flow, Forest, PlanCell, min_cells};
 use core_algo::team::RobotId;
 use core_algo::timing::Timing;
-use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use criterion::{BatchSize, BenchmarkId, Criterion, criterion_group, criterion_main};
 use phone_sim::field::{Field, generate};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
@@ -79,6 +82,43 @@ fn bench_tempo(c: &mut Criterion) {
                 g.bench_function(BenchmarkId::new(name, format!("{kind}-{n}")), |bch| {
                     bch.iter(|| black_box(tempo.decide(&ctx, &mut fields).expect("decide")))
                 });
+            }
+            // On the mazes a kept share answers the repeated decisions
+            // above; `fresh` decides afresh every time (a new `Tempo`),
+            // by searches, and `forest` the same with the travel times
+            // read off the known tree, as a simulated robot reads them on
+            // a maze (stop 57).
+            if kind == "maze" {
+                let mut forest = Forest::new(vec![PlanCell::EMPTY; area]);
+                forest.sync(&map);
+                assert!(forest.holds(&map), "a maze's known part is a forest");
+                let read = Context {
+                    tree: Some(forest.view()),
+                    ..ctx
+                };
+                let fresh = |ctx: &Context<'_, Vec<Block>>, fields: &mut Vec<_>| {
+                    Tempo::new(TempoConfig::default())
+                        .decide(ctx, fields)
+                        .expect("decide")
+                };
+                assert_eq!(fresh(&read, &mut fields), fresh(&ctx, &mut fields));
+                // Fresh fields too: a field that holds the search from the
+                // same pose on the same map is not searched again, which a
+                // changing map never allows.
+                let new_fields = || -> Vec<_> {
+                    (0..16)
+                        .map(|_| DistField::new(vec![PlanCell::EMPTY; min_cells(area)]))
+                        .collect()
+                };
+                for (name, ctx) in [("decide16-fresh", &ctx), ("decide16-forest", &read)] {
+                    g.bench_function(BenchmarkId::new(name, format!("{kind}-{n}")), |bch| {
+                        bch.iter_batched_ref(
+                            new_fields,
+                            |fields| black_box(fresh(ctx, fields)),
+                            BatchSize::LargeInput,
+                        )
+                    });
+                }
             }
         }
     }
