@@ -52,13 +52,10 @@ pub struct Forest<S> {
     looped: bool,
 }
 
-/// Quarter turns from heading `a` to heading `b`: 0, 1 or 2.
+/// Quarter turns from heading `a` to heading `b`: 0, 1 or 2, as a search
+/// counts them.
 fn turns(a: Heading, b: Heading) -> u32 {
-    match (b.index() + 4 - a.index()) % 4 {
-        0 => 0,
-        2 => 2,
-        _ => 1,
-    }
+    u32::from(Timing::quarter_turns_between(a.index(), b.index()))
 }
 
 impl<S> Forest<S> {
