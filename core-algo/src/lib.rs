@@ -9,6 +9,7 @@
 //! One coordinate frame everywhere: x grows east, y grows north (see
 //! [`geometry`]).
 #![no_std]
+#![forbid(unsafe_code)]
 #![cfg_attr(
     not(test),
     deny(

@@ -1,5 +1,6 @@
 //! The host's cores for a decision's independent searches (see
-//! [`core_algo::explore::Workers`]): rayon's pool, one job per search.
+//! [`core_algo::explore::Workers`]): a [`Team`] of helper threads, one job
+//! per search.
 //!
 //! A simulated team's robots decide one after another on one machine,
 //! where real robots would think side by side; the searches inside one
@@ -14,6 +15,11 @@ use crate::memo::HostMemo;
 use core_algo::explore::{SharedColumns, Workers};
 use core_algo::path::SearchMemo;
 use rayon::prelude::*;
+use std::sync::OnceLock;
+
+mod team;
+
+pub use team::Team;
 
 /// Runs jobs on rayon's global pool (all cores), each job stealable on its
 /// own, since one search can cost a thousand times another; and keeps the
@@ -21,6 +27,7 @@ use rayon::prelude::*;
 /// endgame's column searches for every robot ([`HostColumns`]).
 #[derive(Debug, Default)]
 pub struct HostCores {
+    team: OnceLock<Team>,
     memo: HostMemo,
     columns: HostColumns,
 }
@@ -29,6 +36,7 @@ impl HostCores {
     /// The pool, with a memo of its own.
     pub const fn new() -> HostCores {
         HostCores {
+            team: OnceLock::new(),
             memo: HostMemo::new(),
             columns: HostColumns::new(),
         }
@@ -65,7 +73,13 @@ impl Workers for HostCores {
             }
             return;
         }
-        jobs.par_iter_mut().with_max_len(1).for_each(|job| job());
+        let team = self.team.get_or_init(|| {
+            let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+            Team::new(cores.saturating_sub(1))
+        });
+        if team.helpers() == 0 || !team.run(jobs) {
+            jobs.par_iter_mut().with_max_len(1).for_each(|job| job());
+        }
     }
 }
 
