@@ -21,6 +21,7 @@ use crate::path::{DistField, Flow, Forest, PlanCell, PlanError};
 use crate::timing::{Ticks, Timing};
 
 mod assign;
+mod frontier_floor;
 mod layers;
 pub mod legacy;
 mod minpos;

@@ -103,6 +103,7 @@
 //!   (docs/results/performance.md, stop 38).
 
 use super::assign::{AssignmentObjective, Candidates, hungarian_cols, is_left_out};
+use super::frontier_floor::FrontierFloor;
 use super::{
     Context, Decision, InOrder, Strategy, Workers, explore_decision, go_home, nearest_or_home,
 };
@@ -281,17 +282,40 @@ where
         // endgame changes the costs after collecting, so it needs them all.
         let lazy = !cfg.endgame_return && k > cfg.eager_team;
         let mut c = Candidates::empty(k);
-        let planned = Candidates::cheapest(
-            ctx,
-            fields,
-            k,
-            cfg.spread,
-            (lazy, ties, left_out),
-            cost,
-            floor,
-            bound,
-            (&mut c, self.workers),
-        )?;
+        let mut plan = |frontier: &(dyn Fn(usize, Ticks) -> i64 + Sync)| {
+            let floor = |j: usize, d: Ticks| floor(j, d).max(frontier(j, d).saturating_mul(scale));
+            let workers = self.workers;
+            let ways = (lazy, ties, left_out);
+            Candidates::cheapest(
+                ctx,
+                fields,
+                k,
+                cfg.spread,
+                ways,
+                cost,
+                floor,
+                bound,
+                (&mut c, workers),
+            )
+        };
+        // Where the frontier lies tightens the floor (see `FrontierFloor`):
+        // searches stop sooner with the same picks. Only where the
+        // tie-break makes the optimum unique, since a robot's row then
+        // holds fewer columns its search reached; only with linear travel
+        // times, which the table assumes; not where the forest answers
+        // without a search, nor on a large frontier.
+        let on_tree = ctx.tree.as_ref().is_some_and(|t| t.holds(ctx.map));
+        let sparse = ctx.map.frontier_len() <= FRONTIER_FLOOR_NODES;
+        let planned = if lazy && ties && !cfg.squared && sparse && !on_tree {
+            let pull = |j: usize, p: crate::geometry::Pos| {
+                robots
+                    .get(j)
+                    .map_or(0, |r| per_edge * i64::from(p.manhattan(r.home)))
+            };
+            FrontierFloor::with(ctx.map, robots, ctx.timing.edge, (&pull, &travel), plan)
+        } else {
+            plan(&|_, _| i64::MIN)
+        }?;
         if !planned {
             return match fields.first_mut() {
                 Some(f) => nearest_or_home(ctx, f),
@@ -534,6 +558,16 @@ fn tie_break(j: usize, p: crate::geometry::Pos) -> i64 {
     h ^= h >> 12;
     i64::from(h & TIE_MASK)
 }
+
+/// Most frontier nodes for which a decision builds its
+/// [`FrontierFloor`]: the table costs a pass over every frontier node per
+/// robot, and where the frontier is large the robots stand near work and
+/// search little. Built at every decision, it took random 256² with 16
+/// robots from 10.5 to 48.3 s and maze 256² (where the forest answers)
+/// from 48.0 to 57.6 s; at up to 256 nodes both are as before and rooms
+/// 256² seed 2 goes from 67–70 s to 58–59 s (docs/results/
+/// performance.md, stop 58).
+const FRONTIER_FLOOR_NODES: usize = 256;
 
 /// A robot without a share waits where it stands.
 const WAIT: Decision = Decision {
