@@ -9,10 +9,10 @@
 //! at its travel or beyond can beat its last pick, and the generic floor
 //! assumes a node that far away pulls as hard as the triangle inequality
 //! allows. A robot whose nearest work lies 100 edges away then searches
-//! to about 160 edges, most of a 256² field; on rooms 256² with 16 robots
-//! a few percent of the searches reached 16 000 nodes or more and held
-//! three quarters of all the nodes the searches reached (docs/results/
-//! performance.md, stop 58). The frontier nodes themselves say how hard
+//! a third farther than its picks lie; on rooms 256² with 16 robots the
+//! 3.6 % of the searches that reached 16 384 nodes or more held 60 % of
+//! all the nodes the searches reached (docs/results/performance.md,
+//! stop 58). The frontier nodes themselves say how hard
 //! each can pull, and none can be reached in less than its Manhattan
 //! distance, so a robot's floor can count what is really out there.
 
