@@ -21,10 +21,12 @@ mod team;
 
 pub use team::Team;
 
-/// Runs jobs on rayon's global pool (all cores), each job stealable on its
-/// own, since one search can cost a thousand times another; and keeps the
-/// searches that the next decisions may take over ([`HostMemo`]) and the
-/// endgame's column searches for every robot ([`HostColumns`]).
+/// Runs jobs on a [`Team`] of helpers, one per core besides the caller's,
+/// each job handed out on its own, since one search can cost a thousand
+/// times another (on rayon's global pool while another thread's batch
+/// holds the team); and keeps the searches that the next decisions may
+/// take over ([`HostMemo`]) and the endgame's column searches for every
+/// robot ([`HostColumns`]).
 #[derive(Debug, Default)]
 pub struct HostCores {
     team: OnceLock<Team>,
