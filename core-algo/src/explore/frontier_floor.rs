@@ -89,9 +89,12 @@ impl FrontierFloor {
             width,
             edge: edge.max(1),
         };
-        let rows = t.pull_within.iter_mut().zip(t.beyond.iter_mut());
-        for (j, ((within, beyond), r)) in rows.zip(robots).enumerate() {
-            for f in map.frontier() {
+        // One pass over the frontier (a scan of the map's blocks) for all
+        // robots, then the running extremes per robot.
+        let k = robots.len().min(MAX_ROBOTS);
+        for f in map.frontier() {
+            let rows = t.pull_within.iter_mut().zip(t.beyond.iter_mut());
+            for (j, ((within, beyond), r)) in rows.zip(robots).enumerate() {
                 let m = r.pos.manhattan(f);
                 let bucket = ((m / width) as usize).min(BUCKETS - 1);
                 let p = pull(j, f);
@@ -100,6 +103,9 @@ impl FrontierFloor {
                     *x = (*x).min(down(travel(j, m.saturating_mul(edge)).saturating_sub(p)));
                 }
             }
+        }
+        let rows = t.pull_within.iter_mut().zip(t.beyond.iter_mut());
+        for (within, beyond) in rows.take(k) {
             // Running maximum up, running minimum down.
             let mut most = i32::MIN;
             for w in within.iter_mut() {

@@ -199,20 +199,26 @@ where
         if k > cfg.cluster_team {
             outside_cluster(ctx, cfg.cluster_radius, &mut left_out, &mut kept_far);
         }
+        // A robot's home pull for a node: what its cost takes off, and
+        // what the frontier floor counts with.
+        let pull = |j: usize, p: crate::geometry::Pos| -> i64 {
+            robots
+                .get(j)
+                .map_or(0, |r| per_edge * i64::from(p.manhattan(r.home)))
+        };
         let cost = |j: usize, i: usize, d: Ticks| -> Option<i64> {
             // The far shares are only scanned when some team mate keeps one
             // (this closure runs for every frontier node a search reaches).
             if left_out != 0 && (is_left_out(left_out, j) || kept_far.contains(&Some(i))) {
                 return None;
             }
-            let r = robots.get(j)?;
+            robots.get(j)?;
             let deduce = pen > 0
                 && ctx
                     .map
                     .cell_at(i)
                     .is_some_and(|x| x.visited_neighbours() == 3);
             let p = bounds.pos(i);
-            let pull = per_edge * i64::from(p.manhattan(r.home));
             // A cousin of the seed's `CooperationLayer`, not that layer:
             // a fractional fall-off from the nearest announced target, no
             // route check, no sum over targets; the form that was measured.
@@ -231,7 +237,7 @@ where
             } else {
                 0
             };
-            let x = travel(j, d) + if deduce { pen } else { 0 } + crowd - pull;
+            let x = travel(j, d) + if deduce { pen } else { 0 } + crowd - pull(j, p);
             Some(if ties {
                 x.saturating_mul(TIE_SCALE) + tie_break(j, p)
             } else {
@@ -307,11 +313,6 @@ where
         let on_tree = ctx.tree.as_ref().is_some_and(|t| t.holds(ctx.map));
         let sparse = ctx.map.frontier_len() <= FRONTIER_FLOOR_NODES;
         let planned = if lazy && ties && !cfg.squared && sparse && !on_tree {
-            let pull = |j: usize, p: crate::geometry::Pos| {
-                robots
-                    .get(j)
-                    .map_or(0, |r| per_edge * i64::from(p.manhattan(r.home)))
-            };
             FrontierFloor::with(ctx.map, robots, ctx.timing.edge, (&pull, &travel), plan)
         } else {
             plan(&|_, _| i64::MIN)
