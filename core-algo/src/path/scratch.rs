@@ -85,17 +85,19 @@ impl Default for PlanCell {
 }
 
 /// Where a search settled cells: storage indices `lo..hi`, and no farther
-/// than `reach / edge` columns from the start column `sx` (a settled node
-/// at distance `d` is at most `d / edge` lattice steps away), in a window
-/// `width` wide. The next search clears only that box: rows of a wide map
-/// are much longer than a search that stops early is wide, and finding the
-/// columns this way costs no division per settled state.
+/// than `reach / edge` lattice steps from the start (`sx`, `sy`) (a
+/// settled node at distance `d` is at most `d / edge` steps away), in a
+/// window `width` wide. The next search clears only that diamond: rows of
+/// a wide map are much longer than a search that stops early is wide, a
+/// diamond is half its bounding box, and finding it this way costs no
+/// division per settled state.
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct Dirty {
     lo: usize,
     hi: usize,
     reach: Ticks,
     sx: usize,
+    sy: usize,
     edge: Ticks,
     width: usize,
 }
@@ -110,6 +112,7 @@ impl Dirty {
             hi: 0,
             reach: 0,
             sx: s0 % width,
+            sy: s0 / width,
             edge,
             width,
         }
@@ -123,6 +126,7 @@ impl Dirty {
             hi: area,
             reach: 0,
             sx: 0,
+            sy: 0,
             edge: 0,
             width: width.max(1),
         }
@@ -153,23 +157,28 @@ impl Dirty {
     pub(super) fn rebased(mut self, i: usize, c: Ticks) -> Dirty {
         self.reach = self.reach.saturating_add(c);
         self.sx = i % self.width.max(1);
+        self.sy = i / self.width.max(1);
         self.add(i, 0);
         self
     }
 
-    /// Calls `f` with the storage range of each row of the box.
+    /// Calls `f` with the storage range of each row of the diamond (of
+    /// whole rows `lo..hi` where costs are not edge times).
     pub(super) fn for_each_row(self, mut f: impl FnMut(core::ops::Range<usize>)) {
         if self.lo >= self.hi || self.width == 0 {
             return;
         }
-        let (x0, x1) = match (self.reach / self.edge.max(1)) as usize {
-            _ if self.edge == 0 => (0, self.width),
-            r => (
-                self.sx.saturating_sub(r),
-                self.sx.saturating_add(r + 1).min(self.width),
-            ),
-        };
+        let r = (self.reach / self.edge.max(1)) as usize;
         for row in self.lo / self.width..=(self.hi - 1) / self.width {
+            let (x0, x1) = if self.edge == 0 {
+                (0, self.width)
+            } else {
+                let rx = r.saturating_sub(row.abs_diff(self.sy));
+                (
+                    self.sx.saturating_sub(rx),
+                    self.sx.saturating_add(rx + 1).min(self.width),
+                )
+            };
             let base = row * self.width;
             f(base + x0..base + x1);
         }

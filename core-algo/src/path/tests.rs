@@ -330,6 +330,13 @@ proptest! {
         r.compute_weighted(&map, last, |_| 3, |_, _| Flow::Continue).unwrap();
         r.compute(&map, t, last, Heading::from_index(h0 ^ 2), |_, _| Flow::Continue).unwrap();
         let _ = r.astar(&map, t, last, Heading::North, Pos::new(0, 0)).unwrap();
+        // One stopped early from the middle: the next search clears only
+        // the diamond it settled.
+        let mut n = 0;
+        r.compute(&map, t, map.bounds().pos(area / 2), Heading::from_index(h0), |_, _| {
+            n += 1;
+            if n == stop_after { Flow::Stop } else { Flow::Continue }
+        }).unwrap();
         let mut seen = Vec::new();
         r.compute(&map, t, Pos::new(0, 0), Heading::from_index(h0), |i, d| {
             seen.push((i, d));
