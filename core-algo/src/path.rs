@@ -187,9 +187,9 @@ fn index_manhattan(w: usize, a: usize, b: usize) -> u32 {
 /// on the host. The field stays readable until the next search.
 pub struct DistField<S> {
     cells: S,
-    /// A box that holds every cell the last search settled: the next
-    /// search clears only those. A search that stops early on a large map
-    /// touches a small box, and clearing the whole scratch (16 bytes a
+    /// A diamond round the start that holds every cell the last search
+    /// settled: the next search clears only those. A search that stops
+    /// early on a large map touches a small diamond, and clearing the whole scratch (16 bytes a
     /// node) would cost more than the search itself.
     dirty: Dirty,
     /// The map revision a completed or stopped Dijkstra search ran on

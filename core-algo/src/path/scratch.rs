@@ -1,5 +1,5 @@
 //! The planner's scratch: one 16-byte [`PlanCell`] per node of the map
-//! window, the box of cells a search dirtied, and where a stopped search
+//! window, the diamond of cells a search dirtied, and where a stopped search
 //! stands (see the `path` module docs for the layout and why).
 
 use crate::timing::Ticks;
