@@ -28,7 +28,7 @@ mod endgame;
 mod picks;
 pub use burgard::BurgardGreedy;
 pub(crate) use picks::jumps_pay;
-use picks::{FIRST_PICKS, PICKS, Picks};
+use picks::{FIRST_BUDGET, FIRST_PICKS, PICKS, Picks};
 
 /// The cost matrix of a team against candidate frontier nodes.
 pub(crate) struct Candidates {
@@ -252,7 +252,8 @@ impl Candidates {
         } else {
             per_robot
         };
-        let mut picks = [Picks::new(first); MAX_ROBOTS];
+        let budget = if lazy { FIRST_BUDGET } else { usize::MAX };
+        let mut picks = [Picks::new(first, budget); MAX_ROBOTS];
         let mut stale = [true; MAX_ROBOTS];
         let out = |j: usize| is_left_out(left_out, j);
         for (j, s) in stale.iter_mut().enumerate() {

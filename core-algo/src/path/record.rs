@@ -103,7 +103,17 @@ impl Reached {
             mark: node_mark(map, i),
         }
     }
+
+    /// Whether the search read the node as a frontier node: what
+    /// `KnownMap::is_frontier_at` says of it in every map the record reads
+    /// the same in, without a look at the map.
+    pub fn is_frontier(&self) -> bool {
+        self.mark & FRONTIER_MARK != 0
+    }
 }
+
+/// The bit of a [`node_mark`] that says the node is a frontier node.
+const FRONTIER_MARK: u8 = 0x20;
 
 /// What a recorded search holds besides its cells: where its queues and
 /// jump arrivals stand, and the box of cells it wrote.
@@ -219,7 +229,12 @@ pub trait SearchMemo: Sync {
 /// whether they are known (bit 4), whether it is a frontier node (bit 5).
 pub fn node_mark<M: AsRef<[Block]> + AsMut<[Block]>>(map: &KnownMap<M>, i: usize) -> u8 {
     let arms = arms_at(map, i).map_or(0, |a| 0x10 | a.bits());
-    arms | if map.is_frontier_at(i) { 0x20 } else { 0 }
+    let frontier = if map.is_frontier_at(i) {
+        FRONTIER_MARK
+    } else {
+        0
+    };
+    arms | frontier
 }
 
 /// Whether every node `rec` read reads in `map` as it did. Last reached

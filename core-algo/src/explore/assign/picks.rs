@@ -23,6 +23,21 @@ pub(super) const PICKS: usize = MAX_ROBOTS + 4;
 /// fail the proof and grow again.
 pub(super) const FIRST_PICKS: usize = 3;
 
+/// Nodes a robot's first search reaches before it stops with a pick in
+/// hand, proved or not (see [`Picks::beyond`]). A robot with two picks
+/// beside it and the third far away otherwise searched all the way there:
+/// on rooms 256² with 16 robots the deciding robot's own first search
+/// often ran through thousands of nodes to find a third pick the
+/// assignment never needed. With 1 024, its searches settled 6.5 % fewer
+/// states and copied 6.4 % fewer cells (docs/results/performance.md,
+/// stop 60); on rooms 128², 256 settled more states than none at all and
+/// 4 096 copied as many cells. The tests' fields are small, so their
+/// first searches stop much sooner, to take this way too.
+pub(super) const FIRST_BUDGET: usize = if cfg!(test) { 8 } else { 1024 };
+
+/// How much farther each later round may go than the one before.
+const BUDGET_GROWTH: usize = 4;
+
 /// One robot's cheapest frontier nodes, cheapest first, found by its field
 /// grown only as far as they could change.
 ///
@@ -55,12 +70,25 @@ pub(super) struct Picks {
     /// the next round takes over a record that went on from there, or
     /// writes its own down as one (see [`Picks::go_on`]).
     at: Option<(SearchKey, u64)>,
+    /// Nodes the search has reached so far, in all rounds.
+    seen: usize,
+    /// Nodes after which the search stops with a pick in hand, proved or
+    /// not (see [`Picks::beyond`]); `usize::MAX`: never.
+    budget: usize,
+    /// The floor where the search last stopped on its budget: no node it
+    /// has not reached costs less.
+    cut: Option<i64>,
+    /// A travel at which the floor was found no higher than the last pick
+    /// wanted, since that pick last changed. 0 at first: the floor at
+    /// travel 0 is no higher than any cost.
+    open_to: Ticks,
 }
 
 /// What a robot's picks rank the nodes their search reaches by (see
 /// [`Picks::grow`]).
 struct Reach<'a, C, Fl> {
     j: usize,
+    bounds: crate::map::Bounds,
     spread: u32,
     taken: &'a [usize],
     cost: &'a C,
@@ -81,7 +109,7 @@ pub(crate) fn jumps_pay<M: AsRef<[Block]> + AsMut<[Block]>>(map: &crate::map::Kn
 }
 
 impl Picks {
-    pub(super) fn new(want: usize) -> Picks {
+    pub(super) fn new(want: usize, budget: usize) -> Picks {
         Picks {
             best: [(INF, usize::MAX); PICKS],
             n: 0,
@@ -89,6 +117,10 @@ impl Picks {
             unseen: usize::MAX,
             started: false,
             at: None,
+            seen: 0,
+            budget: budget.max(1),
+            cut: None,
+            open_to: 0,
         }
     }
 
@@ -100,13 +132,17 @@ impl Picks {
     /// A lower bound of the robot's cost for every frontier node it does
     /// not bring: nodes found but not brought cost at least the last pick,
     /// and so do the ones never reached (`floor` passed it); with fewer
-    /// picks than wanted, every reachable frontier node is brought.
+    /// picks than wanted, every reachable frontier node is brought. A
+    /// search stopped on its budget proves less: no node it has not
+    /// reached costs less than the floor where it stopped (the floor never
+    /// falls as the travel grows), so that floor bounds them instead.
     pub(super) fn beyond(&self) -> i64 {
-        if self.n >= self.want {
+        let last = if self.n >= self.want {
             self.best.get(self.want - 1).map_or(INF, |&(b, _)| b)
         } else {
             INF
-        }
+        };
+        self.cut.map_or(last, |c| c.min(last))
     }
 
     /// Grows robot `j`'s (at pose `r`) field until its `want` cheapest
@@ -137,6 +173,8 @@ impl Picks {
     {
         let map = ctx.map;
         let start = !self.started;
+        self.cut = None;
+        self.open_to = 0;
         if start {
             self.started = true;
             self.unseen = map.frontier_len();
@@ -145,6 +183,7 @@ impl Picks {
         }
         let to = Reach {
             j,
+            bounds: map.bounds(),
             spread,
             taken,
             cost,
@@ -209,7 +248,7 @@ impl Picks {
             let mut probe = fresh;
             let upto = reached.iter().position(|x| {
                 let i = x.node as usize;
-                node_mark(map, i) != x.mark || probe.reach(map, &to, i, x.dist) == Flow::Stop
+                node_mark(map, i) != x.mark || probe.reach_read(&to, x) == Flow::Stop
             });
             let Some(dist) = reached.get(upto.unwrap_or(reached.len())).map(|x| x.dist) else {
                 return false;
@@ -222,7 +261,7 @@ impl Picks {
             // Nodes before `dist` come before the stop: none stops.
             *self = fresh;
             for x in head {
-                self.reach(map, &to, x.node as usize, x.dist);
+                self.reach_read(&to, x);
             }
             match field.take_over_before(map, timing, rec, dist) {
                 Ok(true) => memo.taken_over_in_part(),
@@ -332,7 +371,7 @@ impl Picks {
         if rec.after != 0 || !reads_same(map, rec) {
             return None;
         }
-        let stop = self.told(map, to, rec)?;
+        let stop = self.told(to, rec)?;
         Some(field.take_over(map, timing, rec).map(|()| stop))
     }
 
@@ -354,27 +393,27 @@ impl Picks {
         if !reads_same(map, rec) {
             return None;
         }
-        let stop = self.told(map, to, rec)?;
+        let stop = self.told(to, rec)?;
         field.take_over_after(map, rec).then_some(stop)
     }
 
     /// Tells these picks what `rec` reached, in order: `None` if they
     /// stop before its last node, or at it where the recorded search went
     /// on and ran out (a search of their own would stop with its last
-    /// state not expanded yet); else whether they stopped.
-    fn told<M: AsRef<[Block]> + AsMut<[Block]>>(
+    /// state not expanded yet); else whether they stopped. The caller has
+    /// checked that `rec` reads the same ([`reads_same`]).
+    fn told(
         &mut self,
-        map: &crate::map::KnownMap<M>,
         to: &Reach<'_, impl Fn(usize, usize, Ticks) -> Option<i64>, impl Fn(usize, Ticks) -> i64>,
         rec: RecordedSearch<'_>,
     ) -> Option<bool> {
         let (last, before) = rec.reached.split_last()?;
         for x in before {
-            if self.reach(map, to, x.node as usize, x.dist) == Flow::Stop {
+            if self.reach_read(to, x) == Flow::Stop {
                 return None;
             }
         }
-        let stop = self.reach(map, to, last.node as usize, last.dist) == Flow::Stop;
+        let stop = self.reach_read(to, last) == Flow::Stop;
         if stop && rec.state.ran_out() {
             return None;
         }
@@ -391,11 +430,35 @@ impl Picks {
         i: usize,
         d: Ticks,
     ) -> Flow {
+        self.reach_node(to, (i, d, map.is_frontier_at(i)))
+    }
+
+    /// [`Picks::reach`] for a node a recorded search reached, where the
+    /// caller has checked that it reads the same: its mark says whether it
+    /// is a frontier node. Taken-over searches tell their picks every node
+    /// they reached, and the second look at the map for each was a third
+    /// of the time spent telling them (rooms 256², 16 robots;
+    /// docs/results/performance.md, stop 60).
+    fn reach_read(
+        &mut self,
+        to: &Reach<'_, impl Fn(usize, usize, Ticks) -> Option<i64>, impl Fn(usize, Ticks) -> i64>,
+        x: &Reached,
+    ) -> Flow {
+        self.reach_node(to, (x.node as usize, x.dist, x.is_frontier()))
+    }
+
+    /// [`Picks::reach`] told whether node `i` is a frontier node.
+    #[inline(always)]
+    fn reach_node(
+        &mut self,
+        to: &Reach<'_, impl Fn(usize, usize, Ticks) -> Option<i64>, impl Fn(usize, Ticks) -> i64>,
+        (i, d, frontier): (usize, Ticks, bool),
+    ) -> Flow {
         let p = self;
         let j = to.j;
-        if map.is_frontier_at(i) {
+        if frontier {
             p.unseen = p.unseen.saturating_sub(1);
-            let bounds = map.bounds();
+            let bounds = to.bounds;
             let at = bounds.pos(i);
             let crowded = to.spread > 0
                 && to
@@ -421,15 +484,31 @@ impl Picks {
                         *s = (x, i);
                     }
                     p.n = (n + 1).min(PICKS);
+                    if slot < p.want {
+                        // The last pick wanted may have changed.
+                        p.open_to = 0;
+                    }
                 }
             }
         }
         // No frontier node at travel d or beyond can beat the last pick.
+        // The floor never falls as d grows, so below a travel where it
+        // was found no higher than the last pick it need not be read.
         let done = p.n >= p.want
-            && p.best
-                .get(p.want - 1)
-                .is_some_and(|&(b, _)| (to.floor)(j, d) > b);
+            && d > p.open_to
+            && p.best.get(p.want - 1).is_some_and(|&(b, _)| {
+                let beaten = (to.floor)(j, d) > b;
+                if !beaten {
+                    p.open_to = d;
+                }
+                beaten
+            });
+        p.seen = p.seen.saturating_add(1);
         if done || p.unseen == 0 {
+            p.cut = None;
+            Flow::Stop
+        } else if p.n > 0 && p.seen >= p.budget {
+            p.cut = Some((to.floor)(j, d));
             Flow::Stop
         } else {
             Flow::Continue
@@ -479,11 +558,17 @@ impl Picks {
         results.into_iter().collect()
     }
 
-    /// Twice the picks, up to `most`; whether that is more.
+    /// Twice the picks, up to `most`; whether that is more. A search that
+    /// stopped on its budget always has more to give: it goes on, four
+    /// times as far.
     pub(super) fn more(&mut self, most: usize) -> bool {
         let want = (self.want * 2).min(most).min(PICKS);
         let grew = want > self.want;
         self.want = want.max(self.want);
+        if self.cut.is_some() {
+            self.budget = self.budget.saturating_mul(BUDGET_GROWTH);
+            return true;
+        }
         grew
     }
 }
