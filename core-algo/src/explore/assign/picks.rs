@@ -26,13 +26,14 @@ pub(super) const FIRST_PICKS: usize = 3;
 /// Nodes a robot's first search reaches before it stops with a pick in
 /// hand, proved or not (see [`Picks::beyond`]). A robot with two picks
 /// beside it and the third far away otherwise searched all the way there:
-/// on rooms 256² with 16 robots the deciding robot's own first search
-/// often ran through thousands of nodes to find a third pick the
-/// assignment never needed. With 1 024, its searches settled 6.5 % fewer
-/// states and copied 6.4 % fewer cells (docs/results/performance.md,
-/// stop 60); on rooms 128², 256 settled more states than none at all and
-/// 4 096 copied as many cells. The tests' fields are small, so their
-/// first searches stop much sooner, to take this way too.
+/// on rooms 128² with 16 robots, 1 009 of the deciding robots' first
+/// searches ran through 4 000 nodes or more, mostly to find a third pick
+/// the assignment never needed. With 1 024, rooms 256² seed 3's searches
+/// settled 6.5 % fewer states and copied 6.4 % fewer cells
+/// (docs/results/performance.md, stop 60); on rooms 128², 256 settled
+/// more states than no budget at all and 4 096 copied as many cells. The
+/// tests' fields are small, so their first searches stop much sooner, to
+/// take this way too.
 pub(super) const FIRST_BUDGET: usize = if cfg!(test) { 8 } else { 1024 };
 
 /// How much farther each later round may go than the one before.
@@ -55,7 +56,10 @@ const BUDGET_GROWTH: usize = 4;
 /// the picks, its field resumed where it stopped, and the assignment runs
 /// again. While robots explore at the frontier, their first few mostly
 /// settle it: on open 256² with 16 robots such decisions cost a quarter of
-/// what 16 picks each did (docs/results/performance.md, stop 19).
+/// what 16 picks each did (docs/results/performance.md, stop 19). A first
+/// search also stops on a budget of nodes ([`FIRST_BUDGET`]), where the
+/// floor it stopped at bounds what it did not reach; where that bound
+/// fails the proof, the search goes on four times as far.
 #[derive(Clone, Copy)]
 pub(super) struct Picks {
     /// Up to [`PICKS`] cheapest found so far: (cost, node).
@@ -82,6 +86,9 @@ pub(super) struct Picks {
     /// wanted, since that pick last changed. 0 at first: the floor at
     /// travel 0 is no higher than any cost.
     open_to: Ticks,
+    /// The travel of the last frontier node the search reached: it stops
+    /// on its budget only beyond it (see [`Picks::reach_node`]).
+    frontier_at: Ticks,
 }
 
 /// What a robot's picks rank the nodes their search reaches by (see
@@ -121,6 +128,7 @@ impl Picks {
             budget: budget.max(1),
             cut: None,
             open_to: 0,
+            frontier_at: 0,
         }
     }
 
@@ -458,6 +466,7 @@ impl Picks {
         let j = to.j;
         if frontier {
             p.unseen = p.unseen.saturating_sub(1);
+            p.frontier_at = d;
             let bounds = to.bounds;
             let at = bounds.pos(i);
             let crowded = to.spread > 0
@@ -504,10 +513,15 @@ impl Picks {
                 beaten
             });
         p.seen = p.seen.saturating_add(1);
+        // On its budget the search stops only past the travel of every
+        // frontier node it reached, as a stop on the floor does past every
+        // pick's: the states as cheap as the node it is given are then all
+        // settled, and its way there, ties included, is a whole search's
+        // (see `tempo::search_to`).
         if done || p.unseen == 0 {
             p.cut = None;
             Flow::Stop
-        } else if p.n > 0 && p.seen >= p.budget {
+        } else if p.n > 0 && p.seen >= p.budget && d > p.frontier_at {
             p.cut = Some((to.floor)(j, d));
             Flow::Stop
         } else {
