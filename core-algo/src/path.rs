@@ -189,8 +189,9 @@ pub struct DistField<S> {
     cells: S,
     /// A diamond round the start that holds every cell the last search
     /// settled: the next search clears only those. A search that stops
-    /// early on a large map touches a small diamond, and clearing the whole scratch (16 bytes a
-    /// node) would cost more than the search itself.
+    /// early on a large map touches a small diamond, and clearing the
+    /// whole scratch (16 bytes a node) would cost more than the search
+    /// itself.
     dirty: Dirty,
     /// The map revision a completed or stopped Dijkstra search ran on
     /// (`None` after A*, whose settled states are not a shortest-path tree
