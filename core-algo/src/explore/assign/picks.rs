@@ -554,9 +554,13 @@ impl Picks {
             .iter_mut()
             .zip(stale.iter_mut())
             .zip(results.iter_mut());
+        let mut mine = None;
         for (j, ((r, field), ((p, s), result))) in robots.zip(own).enumerate() {
             if !core::mem::take(s) {
                 continue;
+            }
+            if j == ctx.me {
+                mine = Some(jobs.len());
             }
             let job = move || *result = p.grow(ctx, field, (j, r), (0, &[]), (cost, floor), memo);
             // At most one job per robot: `jobs` holds them all.
@@ -566,6 +570,15 @@ impl Picks {
                     available: MAX_ROBOTS,
                 });
             }
+        }
+        // The deciding robot's search goes first. It stands on a node it
+        // has just reached, so its search is seldom one a record holds and
+        // is often the batch's longest; handed out last, it ran alone while
+        // the other cores waited (rooms 256² seed 3, 16 robots: 91.1 s
+        // against 96.9 s; docs/results/performance.md, stop 61). Which
+        // thread runs which job changes nothing a search finds.
+        if let Some(m) = mine.and_then(|m| jobs.get_mut(..=m)) {
+            m.rotate_right(1);
         }
         crate::explore::workers::run_all(workers, &mut jobs);
         drop(jobs);
