@@ -72,7 +72,10 @@ impl FrontierFloor {
         map: &KnownMap<M>,
         robots: &[RobotView],
         edge: Ticks,
-        (pull, travel): (&dyn Fn(usize, Pos) -> i64, &Travel<'_>),
+        (pull, travel): (
+            &impl Fn(usize, Pos) -> i64,
+            &(impl Fn(usize, Ticks) -> i64 + Sync),
+        ),
         run: impl for<'t> FnOnce(&'t Travel<'t>) -> R,
     ) -> R
     where
