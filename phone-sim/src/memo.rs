@@ -324,9 +324,9 @@ impl Recorder {
 }
 
 impl SearchRecorder for Recorder {
-    fn reached(&mut self, r: Reached) {
-        if self.reached.len() < MAX_REACHED {
-            self.reached.push(r);
+    fn reached(&mut self, r: &[Reached]) {
+        if self.reached.len() + r.len() <= MAX_REACHED {
+            self.reached.extend_from_slice(r);
         } else {
             self.too_long = true;
         }
@@ -340,15 +340,15 @@ impl SearchRecorder for Recorder {
         }
     }
 
-    fn cell(&mut self, i: u32, c: PlanCell) {
+    fn cells_written(&mut self, cells: &[(u32, PlanCell)]) {
         if !self.too_long {
-            self.cells.push((i, c));
+            self.cells.extend_from_slice(cells);
         }
     }
 
-    fn queued(&mut self, ring: usize, entry: u32) {
+    fn queued(&mut self, ring: usize, entries: &[u32]) {
         if let (false, Some(q)) = (self.too_long, self.queued.get_mut(ring)) {
-            q.push(entry);
+            q.extend_from_slice(entries);
         }
     }
 
@@ -456,11 +456,11 @@ mod tests {
             memo.record(key, &mut |rec| {
                 let mut seen = 0;
                 f.compute(&map, t, pose.0, pose.1, |i, dist| {
-                    rec.reached(Reached {
+                    rec.reached(&[Reached {
                         node: i as u32,
                         dist,
                         mark: 0,
-                    });
+                    }]);
                     seen += 1;
                     if seen > stop {
                         Flow::Stop

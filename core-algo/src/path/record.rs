@@ -91,6 +91,13 @@ pub struct Reached {
 }
 
 impl Reached {
+    /// Only a placeholder for a buffer's unused slots.
+    const NONE: Reached = Reached {
+        node: 0,
+        dist: 0,
+        mark: 0,
+    };
+
     /// Node `i` of `map`, reached at travel `d`, as a search reads it.
     pub fn at<M: AsRef<[Block]> + AsMut<[Block]>>(
         map: &KnownMap<M>,
@@ -170,15 +177,15 @@ pub struct RecordedSearch<'a> {
 
 /// Where a search is written down while it runs (see [`SearchMemo::record`]).
 pub trait SearchRecorder {
-    /// The search reached a node.
-    fn reached(&mut self, r: Reached);
+    /// Nodes the search reached, in order.
+    fn reached(&mut self, r: &[Reached]);
     /// The search read a node it did not reach (see [`RecordedSearch::read`]).
     fn read(&mut self, node: u32, mark: u8);
-    /// A cell the search wrote.
-    fn cell(&mut self, i: u32, c: PlanCell);
-    /// The next entry its edge queue (`ring` 0) or turn queue (1)
-    /// received (see [`RecordedSearch::queued`]).
-    fn queued(&mut self, ring: usize, entry: u32);
+    /// Cells the search wrote: (storage index, contents), in order.
+    fn cells_written(&mut self, cells: &[(u32, PlanCell)]);
+    /// The next entries its edge queue (`ring` 0) or turn queue (1)
+    /// received, in order (see [`RecordedSearch::queued`]).
+    fn queued(&mut self, ring: usize, entries: &[u32]);
     /// The cells told so far, to be given their contents: a search that
     /// goes on from a record tells which cells it writes as it writes
     /// them, and what they hold once it stopped.
@@ -304,22 +311,25 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         rec: &mut dyn SearchRecorder,
         mut reached: impl FnMut(usize, Ticks) -> Flow,
     ) -> Result<(), PlanError> {
-        // Both callbacks tell `rec`, one at a time.
-        let told = core::cell::RefCell::new(rec);
+        // Both callbacks tell `rec`: the nodes reached in runs.
+        let told = core::cell::RefCell::new((rec, Run::new(Reached::NONE)));
         let result = self.compute_kept_reading(
             map,
             timing,
             (start, heading, jumping),
             (
                 |i: usize, d: Ticks| {
-                    told.borrow_mut().reached(Reached::at(map, i, d));
+                    let (rec, run) = &mut *told.borrow_mut();
+                    run.push(Reached::at(map, i, d), |r| rec.reached(r));
                     reached(i, d)
                 },
-                |v: usize| told.borrow_mut().read(v as u32, node_mark(map, v)),
+                |v: usize| told.borrow_mut().0.read(v as u32, node_mark(map, v)),
             ),
         );
+        let (rec, mut run) = told.into_inner();
+        run.flush(|r| rec.reached(r));
         if result.is_ok() {
-            self.write_down_walking(map, told.into_inner(), false);
+            self.write_down_walking(map, rec, false);
         }
         result
     }
@@ -352,11 +362,12 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             return false;
         }
         let cells = self.cells.as_ref();
+        let mut written = Run::new((0, PlanCell::EMPTY));
         self.dirty.for_each_row(|row| {
             let start = row.start;
             for (k, c) in cells.get(row).unwrap_or(&[]).iter().enumerate() {
                 if c.base & DIST_MASK != DIST_MASK {
-                    rec.cell((start + k) as u32, *c);
+                    written.push(((start + k) as u32, *c), |r| rec.cells_written(r));
                     if walks {
                         self.write_walks(map, (start + k, c), rec);
                     }
@@ -375,22 +386,24 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
                 .into_iter()
                 .enumerate()
             {
-                for n in from.max(pushed.saturating_sub(cap))..pushed {
-                    if let Some(c) = cells.get(n % cap) {
-                        rec.queued(ring, c.ring(ring));
-                    }
-                }
+                tell_queued(
+                    rec,
+                    cells,
+                    ring,
+                    from.max(pushed.saturating_sub(cap))..pushed,
+                );
             }
         } else {
             for (head, len) in [(q.a_head, q.a_len), (q.b_head, q.b_len)] {
                 for k in 0..len {
                     let i = super::wrap(head + k, cap);
                     if let Some(c) = cells.get(i) {
-                        rec.cell(i as u32, *c);
+                        written.push((i as u32, *c), |r| rec.cells_written(r));
                     }
                 }
             }
         }
+        written.flush(|r| rec.cells_written(r));
         rec.finish(SearchState {
             dirty: self.dirty,
             queue: self.queue,
@@ -507,6 +520,77 @@ mod part;
 mod rest;
 
 pub use part::first_read_otherwise;
+
+/// Entries a recorder is handed at once. Writing a search down tells it
+/// every node reached, every cell written and every entry the queues
+/// received; one `dyn` call each cost more than the copying it did
+/// (rooms 64², 16 robots: 4 % of all instructions; docs/results/
+/// performance.md, stop 61).
+const RUN: usize = 128;
+
+/// Entries gathered on the stack into runs of [`RUN`], each handed on
+/// whole.
+struct Run<T> {
+    buf: [T; RUN],
+    len: usize,
+}
+
+impl<T: Copy> Run<T> {
+    /// An empty run; `fill` only initialises the buffer.
+    fn new(fill: T) -> Run<T> {
+        Run {
+            buf: [fill; RUN],
+            len: 0,
+        }
+    }
+
+    /// Adds `x`, handing the run to `out` once it is full.
+    #[inline]
+    fn push(&mut self, x: T, out: impl FnOnce(&[T])) {
+        if let Some(slot) = self.buf.get_mut(self.len) {
+            *slot = x;
+            self.len += 1;
+        }
+        if self.len == RUN {
+            out(&self.buf);
+            self.len = 0;
+        }
+    }
+
+    /// Hands what is left to `out`, if anything.
+    fn flush(&mut self, out: impl FnOnce(&[T])) {
+        if let Some(rest) = self.buf.get(..self.len).filter(|r| !r.is_empty()) {
+            out(rest);
+        }
+        self.len = 0;
+    }
+}
+
+/// Tells `rec` the entries ring `ring` received with the numbers `n` in
+/// `range`, read from the slots they went to (`n % cells.len()`): at most
+/// two runs of slots, the second from slot 0 on.
+fn tell_queued(
+    rec: &mut dyn SearchRecorder,
+    cells: &[PlanCell],
+    ring: usize,
+    range: core::ops::Range<usize>,
+) {
+    let cap = cells.len();
+    if range.is_empty() || cap == 0 {
+        return;
+    }
+    let first = range.start % cap;
+    let len = range.len().min(cap);
+    let head = cells.get(first..cap.min(first + len)).unwrap_or(&[]);
+    let tail = cells.get(..len - head.len()).unwrap_or(&[]);
+    let mut buf = [0; RUN];
+    for chunk in head.chunks(RUN).chain(tail.chunks(RUN)) {
+        for (b, c) in buf.iter_mut().zip(chunk) {
+            *b = c.ring(ring);
+        }
+        rec.queued(ring, buf.get(..chunk.len()).unwrap_or(&[]));
+    }
+}
 
 #[cfg(test)]
 mod tests;

@@ -280,11 +280,9 @@ impl Picks {
                 }
             }
             let end = memo.record(key, &mut |out| {
-                for x in head {
-                    out.reached(*x);
-                }
+                out.reached(head);
                 result = field.resume(map, |i, d| {
-                    out.reached(Reached::at(map, i, d));
+                    out.reached(&[Reached::at(map, i, d)]);
                     self.reach(map, &to, i, d)
                 });
                 if result.is_ok() {

@@ -2,7 +2,7 @@
 //! down as what that part wrote, and taken over by a field that stands
 //! at the same end (see the module docs of `record`).
 
-use super::{Reached, RecordedSearch, SearchRecorder, SearchState, node_mark};
+use super::{Reached, RecordedSearch, Run, SearchRecorder, SearchState, node_mark};
 use crate::map::{Block, KnownMap};
 use crate::path::{DistField, Flow, PlanCell, PlanError};
 use crate::timing::Ticks;
@@ -35,28 +35,33 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             return self.resume(map, reached);
         };
         let from = self.queue;
-        let told = core::cell::RefCell::new(rec);
+        // The cells it writes go to `rec` in runs, given their contents
+        // once it stopped.
+        let told = core::cell::RefCell::new((rec, Run::new((0, PlanCell::EMPTY))));
         if let Some((v, _, _)) = from.pending {
-            told.borrow_mut().cell(v as u32, PlanCell::EMPTY);
+            let (rec, run) = &mut *told.borrow_mut();
+            run.push((v as u32, PlanCell::EMPTY), |r| rec.cells_written(r));
         }
         let settled = |v: usize, _, d, first| {
-            let mut rec = told.borrow_mut();
-            rec.cell(v as u32, PlanCell::EMPTY);
+            let mut t = told.borrow_mut();
+            let (rec, run) = &mut *t;
+            run.push((v as u32, PlanCell::EMPTY), |r| rec.cells_written(r));
             if first {
-                rec.reached(Reached::at(map, v, d));
-                drop(rec);
+                rec.reached(&[Reached::at(map, v, d)]);
+                drop(t);
                 reached(v, d)
             } else {
                 Flow::Continue
             }
         };
-        let read = |v: usize| told.borrow_mut().read(v as u32, node_mark(map, v));
+        let read = |v: usize| told.borrow_mut().0.read(v as u32, node_mark(map, v));
         if self.jumping {
             self.run_jumping::<M, false>(map, (|_| true, read), settled)?;
         } else {
             self.run::<M, false>(map, |_| true, settled)?;
         }
-        let rec = told.into_inner();
+        let (rec, mut run) = told.into_inner();
+        run.flush(|r| rec.cells_written(r));
         let cells = self.cells.as_ref();
         for (i, c) in rec.cells() {
             if let Some(now) = cells.get(*i as usize) {
@@ -69,11 +74,12 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let q = self.queue;
         let rings = [(from.a_pushed, q.a_pushed), (from.b_pushed, q.b_pushed)];
         for (ring, (before, after)) in rings.into_iter().enumerate() {
-            for n in before.max(after.saturating_sub(cap))..after {
-                if let Some(c) = cells.get(n % cap) {
-                    rec.queued(ring, c.ring(ring));
-                }
-            }
+            super::tell_queued(
+                rec,
+                cells,
+                ring,
+                before.max(after.saturating_sub(cap))..after,
+            );
         }
         rec.finish(SearchState {
             dirty: self.dirty,

@@ -20,17 +20,17 @@ struct Written {
 }
 
 impl SearchRecorder for Written {
-    fn reached(&mut self, r: Reached) {
-        self.reached.push(r);
+    fn reached(&mut self, r: &[Reached]) {
+        self.reached.extend_from_slice(r);
     }
     fn read(&mut self, node: u32, mark: u8) {
         self.read.push((node, mark));
     }
-    fn cell(&mut self, i: u32, c: PlanCell) {
-        self.cells.push((i, c));
+    fn cells_written(&mut self, cells: &[(u32, PlanCell)]) {
+        self.cells.extend_from_slice(cells);
     }
-    fn queued(&mut self, ring: usize, entry: u32) {
-        self.queued[ring].push(entry);
+    fn queued(&mut self, ring: usize, entries: &[u32]) {
+        self.queued[ring].extend_from_slice(entries);
     }
     fn cells(&mut self) -> &mut [(u32, PlanCell)] {
         &mut self.cells
