@@ -568,7 +568,9 @@ impl<T: Copy> Run<T> {
 
 /// Tells `rec` the entries ring `ring` received with the numbers `n` in
 /// `range`, read from the slots they went to (`n % cells.len()`): at most
-/// two runs of slots, the second from slot 0 on.
+/// two runs of slots, the second from slot 0 on. Only the last
+/// `cells.len()` entries are still in their slots, so a longer `range`
+/// tells those.
 fn tell_queued(
     rec: &mut dyn SearchRecorder,
     cells: &[PlanCell],
