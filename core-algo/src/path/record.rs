@@ -91,6 +91,13 @@ pub struct Reached {
 }
 
 impl Reached {
+    /// Only a placeholder for a buffer's unused slots.
+    const NONE: Reached = Reached {
+        node: 0,
+        dist: 0,
+        mark: 0,
+    };
+
     /// Node `i` of `map`, reached at travel `d`, as a search reads it.
     pub fn at<M: AsRef<[Block]> + AsMut<[Block]>>(
         map: &KnownMap<M>,
@@ -305,7 +312,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         mut reached: impl FnMut(usize, Ticks) -> Flow,
     ) -> Result<(), PlanError> {
         // Both callbacks tell `rec`: the nodes reached in runs.
-        let told = core::cell::RefCell::new((rec, Run::new()));
+        let told = core::cell::RefCell::new((rec, Run::new(Reached::NONE)));
         let result = self.compute_kept_reading(
             map,
             timing,
@@ -355,7 +362,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
             return false;
         }
         let cells = self.cells.as_ref();
-        let mut written = Run::new();
+        let mut written = Run::new((0, PlanCell::EMPTY));
         self.dirty.for_each_row(|row| {
             let start = row.start;
             for (k, c) in cells.get(row).unwrap_or(&[]).iter().enumerate() {
@@ -523,31 +530,39 @@ const RUN: usize = 128;
 
 /// Entries gathered on the stack into runs of [`RUN`], each handed on
 /// whole.
-struct Run<T>(heapless::Vec<T, RUN>);
+struct Run<T> {
+    buf: [T; RUN],
+    len: usize,
+}
 
 impl<T: Copy> Run<T> {
-    /// An empty run.
-    fn new() -> Run<T> {
-        Run(heapless::Vec::new())
+    /// An empty run; `fill` only initialises the buffer.
+    fn new(fill: T) -> Run<T> {
+        Run {
+            buf: [fill; RUN],
+            len: 0,
+        }
     }
 
     /// Adds `x`, handing the run to `out` once it is full.
     #[inline]
     fn push(&mut self, x: T, out: impl FnOnce(&[T])) {
-        // Never full here: a full run is handed on at once.
-        let _ = self.0.push(x);
-        if self.0.is_full() {
-            out(&self.0);
-            self.0.clear();
+        if let Some(slot) = self.buf.get_mut(self.len) {
+            *slot = x;
+            self.len += 1;
+        }
+        if self.len == RUN {
+            out(&self.buf);
+            self.len = 0;
         }
     }
 
     /// Hands what is left to `out`, if anything.
     fn flush(&mut self, out: impl FnOnce(&[T])) {
-        if !self.0.is_empty() {
-            out(&self.0);
+        if let Some(rest) = self.buf.get(..self.len).filter(|r| !r.is_empty()) {
+            out(rest);
         }
-        self.0.clear();
+        self.len = 0;
     }
 }
 

@@ -37,7 +37,7 @@ impl<S: AsRef<[PlanCell]> + AsMut<[PlanCell]>> DistField<S> {
         let from = self.queue;
         // The cells it writes go to `rec` in runs, given their contents
         // once it stopped.
-        let told = core::cell::RefCell::new((rec, Run::new()));
+        let told = core::cell::RefCell::new((rec, Run::new((0, PlanCell::EMPTY))));
         if let Some((v, _, _)) = from.pending {
             let (rec, run) = &mut *told.borrow_mut();
             run.push((v as u32, PlanCell::EMPTY), |r| rec.cells_written(r));

@@ -41,7 +41,7 @@ fn a_run_hands_on_every_entry_in_order() {
     ] {
         let mut got = Vec::new();
         let mut sizes = Vec::new();
-        let mut run = super::super::Run::<u32>::new();
+        let mut run = super::super::Run::new(0u32);
         for x in 0..n as u32 {
             run.push(x, |r| {
                 got.extend_from_slice(r);
