@@ -30,10 +30,12 @@ use core::fmt;
 
 mod cell;
 mod changes;
+mod frontier_index;
 mod print;
 use cell::{ARMS_MASK, INTO_SHIFT, VISITED, is_deduced};
 pub use cell::{BLOCK_NODES, Block, NodeCell, blocks_for};
 use changes::Changes;
+use frontier_index::FrontierIndex;
 pub use print::MapPrint;
 use print::Prints;
 
@@ -182,6 +184,8 @@ pub struct KnownMap<S> {
     /// [`KnownMap::two_armed_len`]).
     two_armed: u32,
     frontier: u32,
+    /// Which blocks hold frontier nodes (see [`FrontierIndex`]).
+    frontier_blocks: FrontierIndex,
     deduced: u32,
     revision: u32,
     /// The largest x + y, x − y, −x + y and −x − y of the visited nodes:
@@ -207,12 +211,14 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
             });
         }
         storage.as_mut().fill(Block::EMPTY);
+        let frontier_blocks = FrontierIndex::new(storage.as_ref().len());
         Ok(KnownMap {
             blocks: storage,
             bounds,
             visited: 0,
             two_armed: 0,
             frontier: 0,
+            frontier_blocks,
             deduced: 0,
             diagonals: None,
             revision: 0,
@@ -228,6 +234,7 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
         self.visited = 0;
         self.two_armed = 0;
         self.frontier = 0;
+        self.frontier_blocks.clear();
         self.deduced = 0;
         self.diagonals = None;
         self.revision = self.revision.wrapping_add(1);
@@ -489,16 +496,17 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
     }
 
     /// The frontier nodes, in storage order (row by row from the south-west).
-    /// Skips 32 nodes at a time where a block holds no frontier.
+    /// Reads only the blocks that an index of 2 048 bits marks as holding
+    /// frontier nodes, not every block of a large map.
     pub fn frontier(&self) -> impl Iterator<Item = Pos> + '_ {
         let bounds = self.bounds;
-        self.blocks
-            .as_ref()
-            .iter()
-            .enumerate()
-            .filter(|(_, b)| b.frontier != 0)
-            .flat_map(move |(bi, b)| {
-                let mut bits = b.frontier;
+        let blocks = self.blocks.as_ref();
+        self.frontier_blocks
+            .blocks(blocks.len())
+            .filter_map(move |bi| blocks.get(bi).map(|b| (bi, b.frontier)))
+            .filter(|&(_, f)| f != 0)
+            .flat_map(move |(bi, f)| {
+                let mut bits = f;
                 core::iter::from_fn(move || {
                     if bits == 0 {
                         return None;
@@ -561,12 +569,21 @@ impl<S: AsRef<[Block]> + AsMut<[Block]>> KnownMap<S> {
         };
         let bit = 1u32 << (i % BLOCK_NODES);
         let is = block.frontier & bit != 0;
+        let b = i / BLOCK_NODES;
         if should && !is {
+            if block.frontier == 0 {
+                self.frontier_blocks.set(b);
+            }
             block.frontier |= bit;
             self.frontier += 1;
         } else if !should && is {
             block.frontier &= !bit;
             self.frontier -= 1;
+            if block.frontier == 0 {
+                let blocks = self.blocks.as_ref();
+                let holds = |o: usize| blocks.get(o).is_some_and(|x| x.frontier != 0);
+                self.frontier_blocks.unset(b, holds);
+            }
         }
     }
 }

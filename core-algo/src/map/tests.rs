@@ -350,3 +350,57 @@ fn maps_that_read_the_same_have_one_print() {
     assert_eq!(d.print(), MapPrint::default());
     assert_eq!(d.revision_of(revs[0].1), None);
 }
+
+/// A block that runs out of frontier nodes leaves its group's index bit
+/// set while another block of the group still holds some.
+#[test]
+fn a_group_keeps_its_index_bit_while_one_block_holds_frontier() {
+    // 4 375 blocks of 32 nodes: an index bit per four blocks, so blocks
+    // 64 to 67 (row 1, x = 48..=175) share one bit.
+    let bounds = Bounds::new(Pos::new(0, 0), 2000, 70);
+    let mut m = KnownMap::new(vec![Block::EMPTY; blocks_for(bounds.area())], bounds).unwrap();
+    for x in 112..=150 {
+        m.visit(Pos::new(x, 1), arms(&[E, W]), RobotId(0)).unwrap();
+    }
+    assert_eq!(
+        m.frontier().collect::<Vec<_>>(),
+        [Pos::new(111, 1), Pos::new(151, 1)]
+    );
+    // Block 65 (x = 80..=111) empties; block 67 still holds x = 151.
+    m.visit(Pos::new(111, 1), arms(&[E]), RobotId(0)).unwrap();
+    assert_eq!(m.frontier().collect::<Vec<_>>(), [Pos::new(151, 1)]);
+    m.visit(Pos::new(151, 1), arms(&[W]), RobotId(0)).unwrap();
+    assert_eq!(m.frontier().count(), 0);
+    assert!(m.is_complete());
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+    /// On a map with more blocks than the frontier index has bits, a bit
+    /// stands for a group of four blocks: the frontier read through the
+    /// index is still every frontier node, in storage order, as visits
+    /// add and remove them across the groups' edges.
+    #[test]
+    fn the_frontier_index_finds_every_frontier_block_in_groups(
+        visits in proptest::collection::vec((0..70i16, any::<bool>(), 0..32u8), 1..120),
+    ) {
+        let bounds = Bounds::new(Pos::new(0, 0), 2000, 70);
+        // 4 375 blocks: a bit per four, the last bit for three.
+        let blocks = blocks_for(bounds.area());
+        prop_assert!(blocks > 2 * frontier_index::INDEX_BITS && blocks % 4 == 3);
+        let mut m = KnownMap::new(vec![Block::EMPTY; blocks], bounds).unwrap();
+        for (x, last, bits) in visits {
+            // Mostly a line along x, so that the frontier runs along rows
+            // and empties blocks while others of their group keep some.
+            let arms = if bits < 16 { arms(&[E, W]) } else { Arms::from_bits(bits - 16) };
+            // Near the first groups, or in the last one, which is short.
+            let at = if last { Pos::new(1998 - x, 69) } else { Pos::new(100 + x, 1) };
+            let _ = m.visit(at, arms, RobotId(0));
+            let scan: Vec<Pos> = (0..bounds.area())
+                .filter(|&i| m.is_frontier_at(i))
+                .map(|i| bounds.pos(i))
+                .collect();
+            prop_assert_eq!(m.frontier().collect::<Vec<_>>(), scan);
+        }
+    }
+}
