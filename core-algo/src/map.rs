@@ -22,7 +22,9 @@
 //! `u32` per 32-node [`Block`]: 4.125 bytes per node. A 1024-node window
 //! takes 4 224 bytes, plus about 270 bytes for the log of the last 32
 //! nodes that became passable ([`KnownMap::passable_since`]) and about
-//! 220 bytes for its fingerprint and the last eight ([`KnownMap::print`]).
+//! 220 bytes for its fingerprint and the last eight ([`KnownMap::print`]),
+//! and 256 bytes for an index of the blocks that hold frontier nodes, so
+//! that reading the frontier of a large map skips the empty blocks.
 
 use crate::geometry::{Arms, Heading, Pos};
 use crate::team::RobotId;
