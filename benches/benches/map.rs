@@ -32,7 +32,9 @@ fn new_map(n: i16) -> KnownMap<Vec<Block>> {
 fn bench_map(c: &mut Criterion) {
     let mut g = c.benchmark_group("map");
     for n in [64i16, 256] {
-        g.bench_with_input(BenchmarkId::new("visit_all", n * n), &n, |b, &n| {
+        // Nodes, in i32: 256² overflows an i16 (the label read 0 before).
+        let nodes = i32::from(n) * i32::from(n);
+        g.bench_with_input(BenchmarkId::new("visit_all", nodes), &n, |b, &n| {
             let mut m = new_map(n);
             b.iter(|| {
                 m.clear();
@@ -50,7 +52,7 @@ fn bench_map(c: &mut Criterion) {
                 let _ = half.visit(Pos::new(x, y), open_arms(x, y, n), RobotId(0));
             }
         }
-        g.bench_with_input(BenchmarkId::new("frontier_iter", n * n), &half, |b, m| {
+        g.bench_with_input(BenchmarkId::new("frontier_iter", nodes), &half, |b, m| {
             b.iter(|| black_box(m.frontier().count()))
         });
     }
