@@ -72,16 +72,23 @@ impl FrontierIndex {
         let shift = self.shift;
         let words = self.words.get(..self.used).unwrap_or(&[]);
         words.iter().enumerate().flat_map(move |(wi, &w)| {
-            let mut bits = w;
-            core::iter::from_fn(move || {
-                if bits == 0 {
-                    return None;
-                }
-                let g = wi * 64 + bits.trailing_zeros() as usize;
-                bits &= bits - 1;
-                Some(g)
-            })
-            .flat_map(move |g| (g << shift)..((g + 1) << shift).min(len))
+            ones(w)
+                .map(move |k| wi * 64 + k)
+                .flat_map(move |g| (g << shift)..((g + 1) << shift).min(len))
         })
     }
+}
+
+/// The positions of the bits set in `bits`, lowest first: one step per
+/// set bit, however sparse.
+pub(super) fn ones(bits: u64) -> impl Iterator<Item = usize> {
+    let mut rest = bits;
+    core::iter::from_fn(move || {
+        if rest == 0 {
+            return None;
+        }
+        let k = rest.trailing_zeros() as usize;
+        rest &= rest - 1;
+        Some(k)
+    })
 }
