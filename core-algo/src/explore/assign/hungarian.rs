@@ -8,7 +8,7 @@ use crate::explore::MAX_ROBOTS;
 /// columns of `cost` (capped at `cap`: costlier pairs count as forbidden):
 /// the Hungarian algorithm with potentials, O(k²·m). Returns the column
 /// of each row, `None` where only a forbidden pair was left (and for
-/// left-out rows), and each row's potential `u` (see [`Picks`]).
+/// left-out rows), and each row's potential `u` (see [`Picks`](super::picks::Picks)).
 pub(super) fn hungarian(
     c: &Candidates,
     cap: i64,
