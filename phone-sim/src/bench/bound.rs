@@ -73,7 +73,21 @@
 //! side holds a node that must be visited (two or more nodes: two
 //! neighbours cannot both be skipped; one node: unless it is a candidate).
 //! Hence, with return, E ≥ ⌈((n − α(C) − k') + B) / k⌉. On a maze (a tree)
-//! this doubles the layered bound.
+//! this doubles the layered bound. (It is the closed-walk bound beyond
+//! t = 0, with every start shrunk into the root.)
+//!
+//! One drive more, often. In the closed-walk bounds the drives counted are
+//! D = |V_t| + B_t (plus the dead ends' drives), the edges of a tree
+//! spanning V_t and r with the needed bridges driven twice. The union H
+//! of the excursions beyond t is connected through r, so either H has a
+//! cycle, and then an edge more than a tree (at least D + 1 drives), or H
+//! is a tree, and then every edge of it is driven twice: 2|V_t| drives,
+//! at least 2(N_t − S_t) with S_t the most nodes beyond t that can be
+//! skipped at all (free or not). So the numerator is D + 1 whenever
+//! 2(N_t − S_t) > D (`one_more`). On a maze it seldom is (a tree's walk
+//! drives every edge twice, which D already counts); on fields with
+//! cycles it nearly always is, but there parity often takes the drive
+//! already.
 //!
 //! Every return bound is even: the lattice is bipartite (each edge joins
 //! a node with x + y even to one with x + y odd), so a closed walk has even
@@ -386,6 +400,8 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
     let (mut ae, mut ar, mut se, mut sr) = (0u64, 0u64, 0u64, 0u64);
     // α of the free candidates beyond t (at the end: of all of them).
     let mut alpha_free = 0u64;
+    // The most nodes beyond t = 0 skipped, free or not.
+    let mut skip_at_0 = 0u64;
     // t runs from ecc down to 0; `beyond` counts nodes with d > t.
     for t in (0..=ecc).rev() {
         if t < ecc {
@@ -432,6 +448,7 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
         }
         let local = edges_beyond.saturating_sub(beyond);
         let skip = (cands - m.size as u64).min(fit(&by_degree, local));
+        skip_at_0 = skip;
         let must = beyond - skip;
         if must >= 1 {
             se = se.max(t64 + must.div_ceil(k));
@@ -445,13 +462,16 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
         let skip_free = alpha_free.min(fit(&free_by_degree, local));
         let visit = beyond - skip_free;
         if visit >= 1 {
-            sr = sr.max(2 * t64 + (visit + bridges_beyond).div_ceil(k));
+            let more = one_more(visit + bridges_beyond, beyond - skip);
+            sr = sr.max(2 * t64 + (visit + bridges_beyond + more).div_ceil(k));
         }
     }
     // The bridge bound (return only), with and without skipping.
     let k_d = k_distinct;
     let alpha = alpha_free.min(fit(&free_by_degree, budget));
-    sr = sr.max((n.saturating_sub(alpha + k_d) + b_needed).div_ceil(k));
+    let visit = n.saturating_sub(alpha + k_d);
+    let more = one_more(visit + b_needed, n.saturating_sub(k_d + skip_at_0));
+    sr = sr.max((visit + b_needed + more).div_ceil(k));
     ar = ar.max((n.saturating_sub(k_d) + b_all).div_ceil(k));
     let diam = sources
         .iter()
@@ -476,6 +496,15 @@ pub fn lower_bounds(truth: &Truth, starts: &[Pos], k: usize) -> LowerBounds {
         offline_upper: diam + tour,
         offline_upper_return: 2 * diam + tour,
     }
+}
+
+/// 1 if the closed-walk drives beyond a radius can be shown to be one more
+/// than `drives` (the visits plus the needed bridges, see the module docs):
+/// the walks' union beyond t with the root is either a tree, every edge of
+/// it driven twice, at least `2 × least_visited` drives, or it has a cycle
+/// and so an edge more than a tree.
+fn one_more(drives: u64, least_visited: u64) -> u64 {
+    u64::from(2 * least_visited > drives)
 }
 
 /// Bridges whose start-free side must be entered: (under the skipping rule,

@@ -327,8 +327,10 @@ fn bounds_never_exceed_the_exact_optimum() {
         }
     }
     eprintln!("{cases} cases, {tight_return} tight with return, {tight_explore} explore only");
+    // Parity and the cycle's drive (stop 64) made the bound with return
+    // tight on 1 759 of these 1 900 fields (885 before): keep it so.
     assert!(
-        cases >= 250 && tight_return >= cases / 4 && tight_explore >= cases / 4,
+        cases >= 250 && tight_return * 10 >= cases * 9 && tight_explore >= cases / 4,
         "{cases} cases, {tight_return} tight with return, {tight_explore} explore only"
     );
 }
