@@ -131,7 +131,7 @@ where
         let pose = (self.pos, self.heading);
         let mut through_bumper = ThroughBumper {
             whole: spare.last_mut(),
-            walks: 0,
+            walked: 0,
             ready: false,
         };
         let theirs = &*theirs;
@@ -424,35 +424,33 @@ where
     }
 }
 
-/// Where team mate `q`'s way ends: its announced retreat spot in a chain
-/// (see `on_bumped`); home once the map is complete (a target announced
-/// then is a retreat spot, and the way that matters to whoever it bumps is
-/// the one home, which it takes next); else its target, if any.
 /// Whether our cheapest way to a spot drives through the bumper, asked
 /// for spot after spot, nearest first, while a retreat looks for one.
 ///
 /// Each answer walks our way back from the spot: O(way length). Shut in
 /// behind the bumper, every spot of the field is asked, and in a maze of
-/// 128² with 16 robots these walks were a quarter of the run. After a few
-/// walks, a spare field (when the agent has one) gets a whole search from
-/// our pose: the same shortest-path tree, as searches are deterministic,
-/// so the same answers, which [`DistField::passes`] then memoises for all
-/// spots in O(map) altogether.
+/// 128² with 16 robots these walks were a quarter of the run. Once the
+/// walks have driven back as many edges as the map has nodes, a spare
+/// field (when the agent has one) gets a whole search from our pose: the
+/// same shortest-path tree, as searches are deterministic, so the same
+/// answers, which [`DistField::passes`] then memoises for all spots in
+/// O(map) altogether. Walking that far first costs at most about what the
+/// whole search costs (the rent-or-buy rule): most retreats take one of
+/// the first spots, a few edges away, and a whole search after four
+/// walks, whatever their length, was 8 % of a 256² maze with 16 robots
+/// (docs/results/performance.md, stop 65).
 struct ThroughBumper<'a, F> {
     /// The agent's last field, if it has more than the three a retreat
     /// plans in. A strategy may keep a search there between decisions
     /// (tempo's endgame does, in team mates' slots); a search here only
     /// costs it a fresh one, as a new search forgets what a field kept.
     whole: Option<&'a mut DistField<F>>,
-    /// Walks so far.
-    walks: u32,
+    /// Edges the walks so far may have driven back (each way's time in
+    /// edges, an upper bound: turns add time, not edges).
+    walked: u32,
     /// Whether `whole` holds the whole search.
     ready: bool,
 }
-
-/// Walks a retreat takes before it searches the spare field whole: most
-/// retreats take one of the first few spots.
-const WALKS_BEFORE_WHOLE: u32 = 4;
 
 impl<F: AsRef<[PlanCell]> + AsMut<[PlanCell]>> ThroughBumper<'_, F> {
     /// Whether `mine`'s cheapest way (a search from `pose`, perhaps still
@@ -465,7 +463,7 @@ impl<F: AsRef<[PlanCell]> + AsMut<[PlanCell]>> ThroughBumper<'_, F> {
         mine: &DistField<F>,
         (v, blocked): (usize, usize),
     ) -> bool {
-        if !self.ready && self.walks >= WALKS_BEFORE_WHOLE {
+        if !self.ready && self.walked as usize >= map.bounds().area() {
             if let Some(f) = self.whole.as_mut() {
                 self.ready = f
                     .compute(map, timing, pos, heading, |_, _| Flow::Continue)
@@ -475,13 +473,18 @@ impl<F: AsRef<[PlanCell]> + AsMut<[PlanCell]>> ThroughBumper<'_, F> {
         match (self.ready, self.whole.as_mut()) {
             (true, Some(f)) => f.passes(map, v, blocked),
             _ => {
-                self.walks += 1;
+                let edges = mine.dist_at(v).unwrap_or(0) / timing.edge.max(1);
+                self.walked = self.walked.saturating_add(edges.max(1));
                 mine.path_passes(map, v, blocked)
             }
         }
     }
 }
 
+/// Where team mate `q`'s way ends: its announced retreat spot in a chain
+/// (see `on_bumped`); home once the map is complete (a target announced
+/// then is a retreat spot, and the way that matters to whoever it bumps is
+/// the one home, which it takes next); else its target, if any.
 fn way_end(q: &Peer, chained: bool, complete: bool) -> Pos {
     match q.target {
         Some(t) if chained || !complete => t,

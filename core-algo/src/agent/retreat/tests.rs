@@ -91,7 +91,7 @@ fn through_bumper_answers_as_the_walk_does() {
         for blocked in [near, order[order.len() / 2], order[order.len() * 2 / 3]] {
             let mut asked = ThroughBumper {
                 whole: Some(&mut spare),
-                walks: 0,
+                walked: 0,
                 ready: false,
             };
             let (mut first, mut n, mut through) = (true, 0, 0);
@@ -106,7 +106,9 @@ fn through_bumper_answers_as_the_walk_does() {
                 through += usize::from(answer);
             }
             assert!(asked.ready, "seed {seed}: {n} spots, yet no whole search");
-            assert!(n > WALKS_BEFORE_WHOLE as usize);
+            // Rent or buy: the walks drove back a map's worth of edges
+            // before the whole search, not fewer.
+            assert!(asked.walked as usize >= bounds.area(), "seed {seed}");
             if blocked != near {
                 assert!(
                     through > 0 || walk.dist_at(blocked).is_none(),
