@@ -386,10 +386,28 @@ where
         // strategy keeps (`explore::go_home`), which a search here would
         // throw away at every step of a gated robot.
         let (rest, spare) = rest.split_at_mut(MAX_ROBOTS.min(rest.len()));
-        let (mine, mut first) = match spare.first_mut() {
+        let (spare, past) = match spare.split_first_mut() {
+            Some((f, past)) => (Some(f), past),
+            None => (None, &mut [][..]),
+        };
+        let (mine, mut first) = match spare {
             Some(f) => (f, Some(mine)),
             None => (mine, None),
         };
+        // Whether a spot's way home passes an earlier home is asked of
+        // a whole search from home in the agent's last field, past the
+        // spare, where a retreat keeps it too (`retreat_spot`): the same
+        // search tree as the spot search's, so the same answers, and its
+        // memo answers every spot of every decision in O(map) altogether
+        // (maze 256², 16 robots: a walk back home per spot was 4 % of the
+        // run; docs/results/performance.md, stop 65).
+        let (home, north) = (self.home, Heading::North);
+        let mut homeward = past.last_mut().and_then(|f| {
+            let whole = f.is_complete_search_from(map, timing, home, north)
+                || f.compute(map, timing, home, north, |_, _| Flow::Continue)
+                    .is_ok();
+            whole.then_some(f)
+        });
         // The way home the strategy keeps (a reverse field rooted at our
         // home, see `explore::go_home`) guides the search of the way to a
         // spot near home: far from home, that way runs along the way home,
@@ -397,7 +415,6 @@ where
         // nearer than the spot (most of a gated robot's time in a maze).
         // Tempo keeps it in our own field of the team's (robot `me`'s),
         // which is among `rest`; others in the first.
-        let home = self.home;
         // Far from home our own way home is marked in it, so that asking
         // whether the way to a spot passes a team mate walks only the
         // spot's way (see `DistField::descents_meet_passing`). As we drive
@@ -488,7 +505,10 @@ where
                 };
                 // One walk back for all those homes (in a 16-robot maze a
                 // walk per home was a seventh of the run).
-                let trapped = mine.path_passes_any(map, v, &earlier);
+                let trapped = match homeward.as_deref_mut() {
+                    Some(f) => f.passes_any(map, v, &earlier),
+                    None => mine.path_passes_any(map, v, &earlier),
+                };
                 if !trapped {
                     break result;
                 }

@@ -114,9 +114,10 @@ where
         // With a third field: not behind the bumper's goal as seen from
         // our home, or we would only be shut in once it is there. The
         // search from home is the agent's last field, which nothing else
-        // writes when the agent has one past the homecoming's spare (see
-        // `keep_out_of_the_way`): on a complete map it is then searched
-        // once, not at every retreat.
+        // writes when the agent has one past the homecoming's spare but
+        // the very same search from home (`keep_out_of_the_way` asks it
+        // too): on a complete map it is then searched once, not at every
+        // retreat.
         let home = self.home;
         let (homeward, spare) = match rest.split_last_mut() {
             Some((f, spare)) => (Some(f), spare),
