@@ -371,9 +371,17 @@ where
         };
         match mine {
             Some(i) => {
-                // The reverse endgame searched no field of ours.
-                search_to(ctx, f, i)?;
-                let d = explore_decision(ctx, f, i);
+                let d = match first_heading_on_tree(ctx, i) {
+                    Some(h) => Decision {
+                        goal: super::Goal::Frontier(ctx.map.bounds().pos(i)),
+                        next: Some(h),
+                    },
+                    None => {
+                        // The reverse endgame searched no field of ours.
+                        search_to(ctx, f, i)?;
+                        explore_decision(ctx, f, i)
+                    }
+                };
                 if !endgame {
                     self.keep(ctx, Some(i), d);
                 }
@@ -438,6 +446,14 @@ impl Tempo {
                 (Some(i), Some(f), Some(r)) => {
                     let bounds = ctx.map.bounds();
                     let goal = bounds.pos(i);
+                    if let Some(h) = first_heading_on_tree(ctx, i) {
+                        let d = Decision {
+                            goal: super::Goal::Frontier(goal),
+                            next: Some(h),
+                        };
+                        self.keep(ctx, Some(i), d);
+                        return Ok(Some(d));
+                    }
                     // The way found last time, if the field still
                     // holds it, before a new search: on an unchanged
                     // map the rest of a cheapest way is a cheapest
@@ -485,6 +501,20 @@ impl Tempo {
             *slot = Commitment::after(ctx, share, d.next);
         }
     }
+}
+
+/// The heading the deciding robot drives off in towards frontier node `i`,
+/// read off the known forest where it tells (see
+/// [`crate::path::Forest::first_heading`]): the heading a search to `i`
+/// gives, without the search.
+fn first_heading_on_tree<M>(ctx: &Context<'_, M>, i: usize) -> Option<crate::geometry::Heading>
+where
+    M: AsRef<[Block]> + AsMut<[Block]>,
+{
+    let tree = ctx.tree.as_ref()?;
+    let r = ctx.my()?;
+    let at = ctx.map.bounds().index(r.pos)?;
+    tree.first_heading(ctx.map, ctx.timing, (at, r.heading), i)
 }
 
 /// Makes `field` a search from the deciding robot's pose that holds its

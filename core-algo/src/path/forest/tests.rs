@@ -75,6 +75,43 @@ proptest! {
         }
     }
 
+    /// On a maze known in any order, the forest's first heading from any
+    /// known pose to every frontier node is a search's
+    /// (`DistField::first_heading`): on a tree there is one way, so the
+    /// forest always tells, for nodes out of reach too (`None`). On a
+    /// field with loops, while what is known is still a forest, a
+    /// frontier node may be entered from two nodes of one tree: the
+    /// forest then tells the cheaper way's heading, or nothing on a tie.
+    #[test]
+    fn forest_first_heading_agrees_with_a_search(
+        w in 1u16..32, h in 1u16..32, seed in any::<u64>(), frac in 0.0f64..1.0,
+        edge in 1u32..200, turn in 1u32..128, at_end in any::<bool>(), pick in any::<usize>(),
+        h0 in 0u8..4, maze in any::<bool>(),
+    ) {
+        let b = Bounds::new(Pos::new(0, 0), w, h);
+        let area = b.area();
+        let arms = if maze { tree_arms(b, seed) } else { random_arms(b, seed) };
+        // Few nodes known on a field with loops, or they would close one.
+        let frac = if maze { frac } else { frac / 4.0 };
+        let order = scrambled(area, seed.rotate_left(17), frac);
+        let (map, forest) = grown(b, &arms, &order, at_end);
+        if !forest.holds(&map) {
+            return Ok(());
+        }
+        let t = Timing { edge, quarter_turn: turn };
+        let s0 = order[pick % order.len()];
+        let hd = Heading::from_index(h0);
+        let mut field = DistField::new(vec![PlanCell::EMPTY; super::super::min_cells(area)]);
+        field.compute(&map, t, b.pos(s0), hd, |_, _| Flow::Continue).unwrap();
+        for i in (0..area).filter(|&i| map.is_frontier_at(i)) {
+            let want = field.first_heading(&map, i);
+            let got = forest.first_heading(&map, t, (s0, hd), i);
+            if maze || got.is_some() {
+                prop_assert_eq!(got, want, "node {} from {} facing {:?}", i, s0, hd);
+            }
+        }
+    }
+
     /// A known graph with a loop is no forest: the forest answers nothing.
     #[test]
     fn a_loop_makes_the_forest_answer_nothing(
