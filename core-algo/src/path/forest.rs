@@ -415,28 +415,34 @@ impl<S: AsRef<[PlanCell]>> Forest<S> {
         let best = if self.is_member(b) {
             time(self.way((a, h0), b)?)
         } else {
-            // A frontier node is reached along a known arm of a neighbour
-            // in the forest, and never driven through.
-            let mut best: Option<u64> = None;
-            for h in Heading::ALL {
-                let Some(j) = neighbour_index(self.bounds, b, h) else {
-                    continue;
-                };
-                let into = h.opposite();
-                if !self.is_member(j) || !arms_at(map, j).is_some_and(|x| x.has(into)) {
-                    continue;
-                }
-                let Some(w) = self.way((a, h0), j) else {
-                    continue;
-                };
-                let x = time(w)
-                    + u64::from(turns(w.2, into)) * u64::from(t.quarter_turn)
-                    + u64::from(t.edge);
-                best = Some(best.map_or(x, |b| b.min(x)));
-            }
-            best?
+            self.entries(map, t, (a, h0), b).map(|(x, _)| x).min()?
         };
         Ticks::try_from(best).ok().filter(|&d| d <= MAX_DIST)
+    }
+
+    /// The ways from pose (`a`, `h0`) into frontier node `b`, one per
+    /// neighbour in the forest with a known arm into it (a frontier node
+    /// is entered along such an arm, and never driven through): each
+    /// way's time with timing `t`, and the heading of its first edge.
+    fn entries<'a, M: AsRef<[Block]> + AsMut<[Block]>>(
+        &'a self,
+        map: &'a KnownMap<M>,
+        t: Timing,
+        (a, h0): (usize, Heading),
+        b: usize,
+    ) -> impl Iterator<Item = (u64, Heading)> + 'a {
+        Heading::ALL.into_iter().filter_map(move |h| {
+            let j = neighbour_index(self.bounds, b, h)?;
+            let into = h.opposite();
+            if !self.is_member(j) || !arms_at(map, j).is_some_and(|x| x.has(into)) {
+                return None;
+            }
+            let (e, q, arrival, first) = self.way_and_first((a, h0), j)?;
+            let x = u64::from(e) * u64::from(t.edge)
+                + u64::from(q + turns(arrival, into)) * u64::from(t.quarter_turn)
+                + u64::from(t.edge);
+            Some((x, if a == j { into } else { first }))
+        })
     }
 
     /// The heading a robot at pose (`a`, `h0`) drives off in on its
@@ -464,24 +470,9 @@ impl<S: AsRef<[PlanCell]>> Forest<S> {
         if !self.holds(map) || !self.is_member(a) || self.is_member(b) {
             return None;
         }
-        let t = searchable(timing);
         let mut best: Option<(u64, Heading)> = None;
         let mut split = false;
-        for h in Heading::ALL {
-            let Some(j) = neighbour_index(self.bounds, b, h) else {
-                continue;
-            };
-            let into = h.opposite();
-            if !self.is_member(j) || !arms_at(map, j).is_some_and(|x| x.has(into)) {
-                continue;
-            }
-            let Some((e, q, arrival, first)) = self.way_and_first((a, h0), j) else {
-                continue;
-            };
-            let first = if a == j { into } else { first };
-            let x = u64::from(e) * u64::from(t.edge)
-                + u64::from(q + turns(arrival, into)) * u64::from(t.quarter_turn)
-                + u64::from(t.edge);
+        for (x, first) in self.entries(map, searchable(timing), (a, h0), b) {
             match best {
                 Some((bx, _)) if x > bx => {}
                 Some((bx, bh)) if x == bx => split |= bh != first,
