@@ -373,7 +373,7 @@ where
             Some(i) => {
                 let d = match first_heading_on_tree(ctx, i) {
                     Some(h) => Decision {
-                        goal: super::Goal::Frontier(ctx.map.bounds().pos(i)),
+                        goal: super::Goal::Frontier(bounds.pos(i)),
                         next: Some(h),
                     },
                     None => {
