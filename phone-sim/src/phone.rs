@@ -64,6 +64,9 @@ impl PhoneSide {
         self.env.set_now(now);
         let mut relay = Relay::default();
         for i in 0..proxies.len() {
+            if proxies.get(i).is_some_and(|p| p.is_quiet(now)) {
+                continue;
+            }
             let id = RobotId(i as u8);
             let mut events = std::mem::take(&mut self.events);
             events.clear();

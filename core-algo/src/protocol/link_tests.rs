@@ -134,10 +134,21 @@ impl Sim {
 
     /// Advances one millisecond.
     fn step(&mut self) {
+        self.arrive();
+        self.serve();
+    }
+
+    /// Advances the clock and hands each end what arrived.
+    fn arrive(&mut self) {
         self.now = self.now.wrapping_add(1);
         let now = self.now;
         self.to_robot.deliver(now, &mut self.robot);
         self.to_phone.deliver(now, &mut self.phone);
+    }
+
+    /// Runs both ends' timers and transmitters and takes their events.
+    fn serve(&mut self) {
+        let now = self.now;
         let mut buf = [0u8; MAX_FRAME_LEN];
         self.phone.tick(now);
         while let Some(n) = self.phone.poll_transmit(now, &mut buf) {
@@ -465,4 +476,62 @@ fn reboot_that_draws_the_same_session_byte_is_still_detected() {
     assert_eq!(reliable(&sim.robot_events), [command(500)]);
     assert_eq!(reliable(&sim.phone_events).last(), Some(&node_hit(7)));
     assert_eq!(sim.phone.unacked() + sim.robot.unacked(), 0);
+}
+
+/// A quiet link's timers and transmitter must do nothing: the simulator
+/// skips quiet links, and its runs must not change by it.
+fn assert_quiet_is_a_no_op(link: &Link, now: u32) {
+    let mut copy = link.clone();
+    copy.tick(now);
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    assert_eq!(copy.poll_transmit(now, &mut buf), None, "at {now}");
+    assert_eq!(copy.poll_event(), None, "at {now}");
+    assert_eq!(
+        std::format!("{copy:?}"),
+        std::format!("{link:?}"),
+        "at {now}"
+    );
+}
+
+#[test]
+fn a_quiet_link_has_nothing_to_do() {
+    // Hostile, so that every timer runs (resends, syncs, silence), across
+    // the clock's wrap.
+    let mut sim = Sim::new(11, HOSTILE, u32::MAX - 3_000);
+    let (mut quiet, mut busy) = (0u32, 0u32);
+    let mut sent = 0u16;
+    for ms in 0..8_000u32 {
+        // A message each way every 20 ms, as a relaying phone and an
+        // exploring robot send them.
+        if ms % 20 == 0 && sim.phone.send(command(sent)).is_ok() {
+            sent += 1;
+            let _ = sim.robot.send(node_hit(sent));
+        }
+        // A status now and then: a datagram waits for the next poll.
+        if ms % 170 == 0 {
+            sim.robot.send_datagram(node_hit(ms as u16));
+        }
+        // A blackout in the middle: the links time out and resync.
+        sim.to_robot.blackout = (3_000..5_500).contains(&ms);
+        // Asked both before and after what arrived is handed over: a host
+        // asks either way (the simulator's robots after, its phone before).
+        let now = sim.now.wrapping_add(1);
+        for link in [&sim.phone, &sim.robot] {
+            if link.is_quiet(now) {
+                quiet += 1;
+                assert_quiet_is_a_no_op(link, now);
+            } else {
+                busy += 1;
+            }
+        }
+        sim.arrive();
+        for link in [&sim.phone, &sim.robot] {
+            if link.is_quiet(now) {
+                assert_quiet_is_a_no_op(link, now);
+            }
+        }
+        sim.serve();
+    }
+    assert!(quiet > 4_000 && busy > 300, "quiet {quiet}, busy {busy}");
+    assert!(reliable(&sim.robot_events).len() > 200);
 }

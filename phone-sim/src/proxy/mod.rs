@@ -59,6 +59,13 @@ pub trait RobotProxy: Send {
 
     /// Link counters.
     fn stats(&self) -> ProxyStats;
+
+    /// Whether [`RobotProxy::poll`] at `now` would do nothing: no bytes
+    /// in, no timer due, nothing to send. A caller may skip a quiet
+    /// proxy. Only a proxy that can tell without doing I/O says so.
+    fn is_quiet(&self, _now: u32) -> bool {
+        false
+    }
 }
 
 /// The link-level part every protocol-speaking endpoint on the host shares
@@ -81,6 +88,12 @@ impl LinkEnd {
     pub fn send(&mut self, m: Message) {
         self.outbox.push_back(m);
         self.flush();
+    }
+
+    /// Whether flushing, the link's timers and its transmitter would all do
+    /// nothing at `now` (see [`Link::is_quiet`](core_algo::protocol::Link::is_quiet)).
+    pub fn is_quiet(&self, now: u32) -> bool {
+        self.outbox.is_empty() && self.link.is_quiet(now)
     }
 
     /// Messages still waiting for room in the window.

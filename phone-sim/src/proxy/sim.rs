@@ -70,4 +70,8 @@ impl RobotProxy for SimRobot {
     fn stats(&self) -> ProxyStats {
         self.end.stats()
     }
+
+    fn is_quiet(&self, now: u32) -> bool {
+        self.up.next_arrival().is_none_or(|t| t > now) && self.end.is_quiet(now)
+    }
 }

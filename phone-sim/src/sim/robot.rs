@@ -181,6 +181,12 @@ impl SimFirmware {
         self.end.link.poll_transmit(now, buf)
     }
 
+    /// Whether [`SimFirmware::poll_transmit`] would send nothing at `now`
+    /// (see [`LinkEnd::is_quiet`]).
+    pub fn is_quiet(&self, now: u32) -> bool {
+        self.dead || self.end.is_quiet(now)
+    }
+
     fn drain_link(&mut self, now: u32, orders: &mut Vec<Order>) {
         while let Some(ev) = self.end.link.poll_event() {
             let LinkEvent::Received { message, .. } = ev else {
