@@ -61,12 +61,27 @@ impl PhoneSide {
 
     /// One round at `now` (ms) over every proxy; `proxies[i]` is robot `i`.
     pub fn process<P: RobotProxy + ?Sized>(&mut self, now: u32, proxies: &mut [Box<P>]) {
+        self.process_due(now, proxies, |p, _| !p.is_quiet(now));
+    }
+
+    /// [`PhoneSide::process`] polling only the proxies `due(proxy, i)`
+    /// names: a caller that knows when each proxy is next due (the
+    /// simulator) need not ask each. Whether it sent anything to a proxy
+    /// (a relay), which may then be due at once.
+    pub fn process_due<P: RobotProxy + ?Sized>(
+        &mut self,
+        now: u32,
+        proxies: &mut [Box<P>],
+        due: impl Fn(&P, usize) -> bool,
+    ) -> bool {
         self.env.set_now(now);
         let mut relay = Relay::default();
+        let mut polled = false;
         for i in 0..proxies.len() {
-            if proxies.get(i).is_some_and(|p| p.is_quiet(now)) {
+            if proxies.get(i).is_some_and(|p| !due(p, i)) {
                 continue;
             }
+            polled = true;
             let id = RobotId(i as u8);
             let mut events = std::mem::take(&mut self.events);
             events.clear();
@@ -122,6 +137,7 @@ impl PhoneSide {
             self.events = events;
         }
         self.env.stats_mut().relayed += relay.out.len() as u64;
+        let sent = !relay.out.is_empty();
         for (to, m) in relay.out.drain(..) {
             match to {
                 Recipients::To(id) => {
@@ -138,16 +154,20 @@ impl PhoneSide {
                 }
             }
         }
-        let (mut retx, mut errors) = (0u64, 0u64);
-        for p in proxies.iter() {
-            let s = p.stats();
-            retx += u64::from(s.retransmissions);
-            errors += u64::from(s.link_errors);
+        // A proxy's counters change only as it is polled.
+        if polled {
+            let (mut retx, mut errors) = (0u64, 0u64);
+            for p in proxies.iter() {
+                let s = p.stats();
+                retx += u64::from(s.retransmissions);
+                errors += u64::from(s.link_errors);
+            }
+            let stats = self.env.stats_mut();
+            stats.retransmissions = retx;
+            stats.link_errors = errors;
         }
-        let stats = self.env.stats_mut();
-        stats.retransmissions = retx;
-        stats.link_errors = errors;
         self.env.check_finished();
+        sent
     }
 
     fn start_robot<P: RobotProxy + ?Sized>(&mut self, id: RobotId, proxies: &mut [Box<P>]) {

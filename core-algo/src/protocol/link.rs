@@ -495,26 +495,37 @@ impl Link {
     /// 256² run; docs/results/performance.md, stop 66). It asks what those
     /// calls ask, so skipping a quiet link changes nothing.
     pub fn is_quiet(&self, now: u32) -> bool {
-        let due = |since: Option<u32>, after: u32| since.is_none_or(|t| elapsed(now, t) >= after);
-        // Cheapest first: most links are asked at every step.
-        if self.ack_due
-            || self.datagram.is_some()
-            || !self.events.is_empty()
-            || due(self.last_tx, self.config.heartbeat_ms)
-            || (self.up && due(self.last_rx, self.config.link_timeout_ms))
-        {
-            return false;
+        self.quiet_for(now) > 0
+    }
+
+    /// For how many ms from `now` the link stays quiet ([`Link::is_quiet`])
+    /// unless bytes arrive or a message is sent: 0 if it is not quiet now.
+    /// A host can then leave it alone until a timer runs out, without
+    /// even asking it (u32::MAX: no timer runs).
+    pub fn quiet_for(&self, now: u32) -> u32 {
+        if self.ack_due || self.datagram.is_some() || !self.events.is_empty() {
+            return 0;
+        }
+        // What is left of a timer started at `since` that runs out after
+        // `after` ms; one never started has run out.
+        let left = |since: Option<u32>, after: u32| {
+            since.map_or(0, |t| after.saturating_sub(elapsed(now, t)))
+        };
+        let mut quiet = left(self.last_tx, self.config.heartbeat_ms);
+        if self.up {
+            quiet = quiet.min(left(self.last_rx, self.config.link_timeout_ms));
         }
         if !self.peer_synced {
-            // Nothing is resent or sent unsynced, only the Sync.
-            return !due(self.sync_sent_at, self.rto());
+            // Nothing is sent or resent unsynced but the Sync.
+            return quiet.min(left(self.sync_sent_at, self.rto()));
         }
-        let resend = self
-            .queue
-            .front()
-            .and_then(|p| p.sent_at)
-            .is_some_and(|t| elapsed(now, t) >= self.rto());
-        !resend && !self.queue.iter().any(|p| p.sent_at.is_none() && !p.sacked)
+        if self.queue.iter().any(|p| p.sent_at.is_none() && !p.sacked) {
+            return 0;
+        }
+        match self.queue.front().and_then(|p| p.sent_at) {
+            Some(sent) => quiet.min(left(Some(sent), self.rto())),
+            None => quiet,
+        }
     }
 
     /// The next event, oldest first.

@@ -493,6 +493,25 @@ fn assert_quiet_is_a_no_op(link: &Link, now: u32) {
     );
 }
 
+/// [`Link::quiet_for`] names the instant a timer runs out: the link is
+/// still quiet a millisecond before, and a copy left alone till then has
+/// something to do at it.
+fn assert_quiet_ends_on_time(link: &Link, now: u32) {
+    let d = link.quiet_for(now);
+    assert!(d > 0 && d < u32::MAX, "a heartbeat always runs, at {now}");
+    assert_quiet_is_a_no_op(link, now.wrapping_add(d - 1));
+    let at = now.wrapping_add(d);
+    let mut copy = link.clone();
+    copy.tick(at);
+    let mut buf = [0u8; MAX_FRAME_LEN];
+    let sent = copy.poll_transmit(at, &mut buf).is_some();
+    let heard = copy.poll_event().is_some();
+    assert!(
+        sent || heard || std::format!("{copy:?}") != std::format!("{link:?}"),
+        "quiet for {d} ms from {now}, but nothing to do then"
+    );
+}
+
 #[test]
 fn a_quiet_link_has_nothing_to_do() {
     // Hostile, so that every timer runs (resends, syncs, silence), across
@@ -520,6 +539,7 @@ fn a_quiet_link_has_nothing_to_do() {
             if link.is_quiet(now) {
                 quiet += 1;
                 assert_quiet_is_a_no_op(link, now);
+                assert_quiet_ends_on_time(link, now);
             } else {
                 busy += 1;
             }

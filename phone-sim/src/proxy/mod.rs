@@ -93,7 +93,17 @@ impl LinkEnd {
     /// Whether flushing, the link's timers and its transmitter would all do
     /// nothing at `now` (see [`Link::is_quiet`](core_algo::protocol::Link::is_quiet)).
     pub fn is_quiet(&self, now: u32) -> bool {
-        self.outbox.is_empty() && self.link.is_quiet(now)
+        self.quiet_for(now) > 0
+    }
+
+    /// For how long from `now` it stays quiet unless something arrives or
+    /// is sent (see [`Link::quiet_for`](core_algo::protocol::Link::quiet_for)).
+    pub fn quiet_for(&self, now: u32) -> u32 {
+        if self.outbox.is_empty() {
+            self.link.quiet_for(now)
+        } else {
+            0
+        }
     }
 
     /// Messages still waiting for room in the window.

@@ -27,6 +27,13 @@ impl SimRobot {
         }
     }
 
+    /// For how long from `now` the phone's link end stays quiet unless a
+    /// frame arrives or a message is sent (see `LinkEnd::quiet_for`); the
+    /// simulator keeps the channels' arrivals itself.
+    pub fn link_quiet_for(&self, now: u32) -> u32 {
+        self.end.quiet_for(now)
+    }
+
     /// Counters of both channels (down, up).
     pub fn channel_stats(&self) -> (ChannelStats, ChannelStats) {
         (self.down.stats(), self.up.stats())

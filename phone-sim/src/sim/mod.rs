@@ -18,6 +18,7 @@ pub mod localize;
 mod outcome;
 pub mod robot;
 pub mod timeline;
+mod wake;
 
 pub use outcome::{Localization, Outcome, RobotOutcome, outcome_of};
 
@@ -37,6 +38,7 @@ use core_algo::protocol::{LinkConfig, MAX_FRAME_LEN, Message};
 use core_algo::team::RobotId;
 use core_algo::timing::Timing;
 use robot::{BoxedStrategy, SimFirmware, host_agent};
+use wake::Wakes;
 
 /// Faults to inject into a run.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -155,6 +157,10 @@ pub struct Simulation {
     firmware: Vec<SimFirmware>,
     proxies: Vec<Box<SimRobot>>,
     phone: PhoneSide,
+    /// When each robot's parts next need a step's attention.
+    wakes: Wakes,
+    /// Robots whose bodies reported in this step.
+    reported: Vec<bool>,
     paused: bool,
     done_at: Option<u32>,
     /// When the phone's map first had no frontier left.
@@ -258,6 +264,8 @@ impl Simulation {
                 config.speed.min(u32::from(u16::MAX)) as u16,
             )
             .with_localize(config.localize),
+            wakes: Wakes::new(robots),
+            reported: vec![false; robots],
             paused: false,
             done_at: None,
             mapped_at: None,
@@ -314,6 +322,7 @@ impl Simulation {
             return false;
         };
         p.send(message);
+        self.wakes.proxy_now(id.index());
         true
     }
 
@@ -380,14 +389,7 @@ impl Simulation {
         let next = [
             Some(self.next_tick),
             self.bodies.next_event(),
-            self.proxies
-                .iter()
-                .filter_map(|p| p.up.next_arrival())
-                .min(),
-            self.proxies
-                .iter()
-                .filter_map(|p| p.down.next_arrival())
-                .min(),
+            self.wakes.next_arrival(),
         ]
         .into_iter()
         .flatten()
@@ -401,7 +403,11 @@ impl Simulation {
         let mut reports = Vec::new();
         self.bodies.advance(now, &mut reports);
         let mut orders = Vec::new();
+        self.reported.fill(false);
         for (id, r) in reports {
+            if let Some(seen) = self.reported.get_mut(id.index()) {
+                *seen = true;
+            }
             if let Some(f) = self.firmware.get_mut(id.index()) {
                 f.on_report(now, r, &mut orders);
                 self.order(id, &mut orders);
@@ -412,6 +418,20 @@ impl Simulation {
             self.next_tick = now + self.config.tick_ms.max(1);
         }
         for i in 0..self.firmware.len() {
+            // Most steps are one frame's arrival at one robot: the others
+            // have nothing to do (see `wake`).
+            let reported = self.reported.get(i).copied().unwrap_or(true);
+            if !(tick || reported || self.wakes.firmware_due(i, now)) {
+                debug_assert!(
+                    self.firmware.get(i).is_none_or(|f| f.is_quiet(now))
+                        && self
+                            .proxies
+                            .get(i)
+                            .is_none_or(|p| { p.down.next_arrival().is_none_or(|t| t > now) }),
+                    "robot {i} left alone at {now} with something to do"
+                );
+                continue;
+            }
             let id = RobotId(i as u8);
             while let Some(bytes) = self.proxies.get_mut(i).and_then(|p| p.down.receive(now)) {
                 if let Some(f) = self.firmware.get_mut(i) {
@@ -425,16 +445,34 @@ impl Simulation {
             }
             let mut buf = [0u8; MAX_FRAME_LEN];
             if let (Some(f), Some(p)) = (self.firmware.get_mut(i), self.proxies.get_mut(i)) {
-                // Most steps are one frame's arrival at one robot: the
-                // others' links are quiet (see `Link::is_quiet`).
                 while !f.is_quiet(now)
                     && let Some(n) = f.poll_transmit(now, &mut buf)
                 {
                     p.up.send(now, buf.get(..n).unwrap_or(&[]));
                 }
+                let arrivals = (p.up.next_arrival(), p.down.next_arrival());
+                self.wakes
+                    .firmware_served(i, now, f.quiet_for(now), arrivals);
             }
         }
-        self.phone.process(now, &mut self.proxies);
+        let wakes = &self.wakes;
+        debug_assert!(
+            self.proxies
+                .iter()
+                .enumerate()
+                .all(|(i, p)| wakes.proxy_due(i, now) || p.is_quiet(now)),
+            "a proxy left alone at {now} with something to do"
+        );
+        let sent = self
+            .phone
+            .process_due(now, &mut self.proxies, |_, i| wakes.proxy_due(i, now));
+        for (i, p) in self.proxies.iter().enumerate() {
+            if sent || self.wakes.proxy_due(i, now) {
+                let arrivals = (p.up.next_arrival(), p.down.next_arrival());
+                self.wakes
+                    .proxy_served(i, now, p.link_quiet_for(now), arrivals);
+            }
+        }
         self.note_localized();
         if self.mapped_at.is_none() {
             let map = self.phone.env().map();

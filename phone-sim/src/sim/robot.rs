@@ -184,7 +184,17 @@ impl SimFirmware {
     /// Whether [`SimFirmware::poll_transmit`] would send nothing at `now`
     /// (see [`LinkEnd::is_quiet`]).
     pub fn is_quiet(&self, now: u32) -> bool {
-        self.dead || self.end.is_quiet(now)
+        self.quiet_for(now) > 0
+    }
+
+    /// For how long from `now` it stays quiet unless a frame arrives, a
+    /// tick comes or its body reports (u32::MAX: dead, for good).
+    pub fn quiet_for(&self, now: u32) -> u32 {
+        if self.dead {
+            u32::MAX
+        } else {
+            self.end.quiet_for(now)
+        }
     }
 
     fn drain_link(&mut self, now: u32, orders: &mut Vec<Order>) {
