@@ -244,9 +244,9 @@ impl Link {
     }
 
     /// Feeds bytes received from the peer, in any chunking.
-    pub fn on_bytes(&mut self, now: u32, bytes: &[u8]) {
-        for &b in bytes {
-            if let Some(Ok(frame)) = self.decoder.push_byte(b) {
+    pub fn on_bytes(&mut self, now: u32, mut bytes: &[u8]) {
+        while let Some(r) = self.decoder.next_frame(&mut bytes) {
+            if let Ok(frame) = r {
                 self.on_frame(now, frame);
             }
         }

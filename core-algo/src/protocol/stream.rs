@@ -142,10 +142,41 @@ impl StreamDecoder {
 
     /// Takes a chunk of bytes and calls `on_frame` for every frame or error
     /// completed by it, in stream order.
-    pub fn push(&mut self, bytes: &[u8], mut on_frame: impl FnMut(Result<Frame, FrameError>)) {
-        for &b in bytes {
-            if let Some(r) = self.push_byte(b) {
-                on_frame(r);
+    pub fn push(&mut self, mut bytes: &[u8], mut on_frame: impl FnMut(Result<Frame, FrameError>)) {
+        while let Some(r) = self.next_frame(&mut bytes) {
+            on_frame(r);
+        }
+    }
+
+    /// Takes bytes from the front of `bytes` up to the first frame or error
+    /// they complete, and returns it; `None` once they are all taken
+    /// without completing one. The same as [`StreamDecoder::push_byte`] for
+    /// each byte, a run between delimiters copied at once: byte by byte,
+    /// the copy was a fifth of a link's receiving time.
+    pub fn next_frame(&mut self, bytes: &mut &[u8]) -> Option<Result<Frame, FrameError>> {
+        loop {
+            let end = bytes.iter().position(|&b| b == 0);
+            let (run, rest) = bytes.split_at(end.unwrap_or(bytes.len()));
+            if !self.overflow {
+                let stored = self
+                    .buf
+                    .get_mut(self.len..)
+                    .and_then(|free| free.get_mut(..run.len()));
+                match stored {
+                    Some(slot) => {
+                        slot.copy_from_slice(run);
+                        self.len += run.len();
+                    }
+                    None => self.overflow = true,
+                }
+            }
+            let Some((_, after)) = rest.split_first() else {
+                *bytes = rest;
+                return None;
+            };
+            *bytes = after;
+            if let Some(r) = self.push_byte(0) {
+                return Some(r);
             }
         }
     }

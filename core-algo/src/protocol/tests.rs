@@ -291,6 +291,32 @@ proptest! {
     }
 
     #[test]
+    fn runs_are_taken_as_bytes_are(
+        frames in prop::collection::vec(frame(), 0..4),
+        garbage in prop::collection::vec(prop::collection::vec(any::<u8>(), 0..400), 5),
+        chunk in 1usize..200,
+    ) {
+        // Frames, garbage (overlong runs too) and stray delimiters, cut
+        // anywhere: chunk by chunk the decoder reports what it reports
+        // byte by byte, and counts the same.
+        let mut wire = Vec::new();
+        for (f, g) in frames.iter().zip(&garbage) {
+            wire.extend_from_slice(g);
+            wire.extend(encode(f));
+        }
+        wire.extend_from_slice(&garbage[4]);
+        let mut by_byte = StreamDecoder::new();
+        let want: Vec<_> = wire.iter().filter_map(|&b| by_byte.push_byte(b)).collect();
+        let mut by_run = StreamDecoder::new();
+        let mut got = Vec::new();
+        for c in wire.chunks(chunk) {
+            by_run.push(c, |r| got.push(r));
+        }
+        prop_assert_eq!(got, want);
+        prop_assert_eq!(by_run.stats(), by_byte.stats());
+    }
+
+    #[test]
     fn garbage_between_frames_costs_no_intact_frame(
         frames in prop::collection::vec(frame(), 1..6),
         garbage in prop::collection::vec(prop::collection::vec(any::<u8>(), 0..120), 6),
@@ -467,4 +493,20 @@ fn overlong_chunk_is_dropped_and_decoder_recovers() {
     assert_eq!(got, std::vec![Err(FrameError::TooLong), Ok(f)]);
     assert_eq!(d.stats().too_long, 1);
     assert_eq!(d.stats().frames, 1);
+}
+
+#[test]
+fn the_crc_is_crc32c_however_it_is_computed() {
+    // The catalogue's check value: the robot's byte-wise tables and the
+    // host's sixteen-byte ones must agree with each other and with it.
+    assert_eq!(CRC.checksum(b"123456789"), 0xE306_9283);
+    let bytewise = crc::Crc::<u32, crc::Table<1>>::new(&crc::CRC_32_ISCSI);
+    let data: Vec<u8> = (0..200u32).map(|i| (i * 37 + 11) as u8).collect();
+    for n in 0..data.len() {
+        assert_eq!(
+            CRC.checksum(&data[..n]),
+            bytewise.checksum(&data[..n]),
+            "{n} bytes"
+        );
+    }
 }
