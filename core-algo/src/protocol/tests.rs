@@ -219,6 +219,18 @@ fn encode(f: &Frame) -> Vec<u8> {
     buf[..n].to_vec()
 }
 
+/// The frames on the wire, each after a run of garbage, and the last
+/// run of garbage after them all.
+fn wire_with_garbage(frames: &[Frame], garbage: &[Vec<u8>]) -> Vec<u8> {
+    let mut wire = Vec::new();
+    for (f, g) in frames.iter().zip(garbage) {
+        wire.extend_from_slice(g);
+        wire.extend(encode(f));
+    }
+    wire.extend_from_slice(garbage.last().map_or(&[][..], |g| g));
+    wire
+}
+
 /// Decodes a whole stream, returning the frames and the error count.
 fn decode_stream(bytes: &[u8], chunk: usize) -> (Vec<Frame>, u32) {
     let mut d = StreamDecoder::new();
@@ -299,12 +311,7 @@ proptest! {
         // Frames, garbage (overlong runs too) and stray delimiters, cut
         // anywhere: chunk by chunk the decoder reports what it reports
         // byte by byte, and counts the same.
-        let mut wire = Vec::new();
-        for (f, g) in frames.iter().zip(&garbage) {
-            wire.extend_from_slice(g);
-            wire.extend(encode(f));
-        }
-        wire.extend_from_slice(&garbage[4]);
+        let wire = wire_with_garbage(&frames, &garbage);
         let mut by_byte = StreamDecoder::new();
         let want: Vec<_> = wire.iter().filter_map(|&b| by_byte.push_byte(b)).collect();
         let mut by_run = StreamDecoder::new();
@@ -322,12 +329,7 @@ proptest! {
         garbage in prop::collection::vec(prop::collection::vec(any::<u8>(), 0..120), 6),
         chunk in 1usize..64,
     ) {
-        let mut wire = Vec::new();
-        for (f, g) in frames.iter().zip(&garbage) {
-            wire.extend_from_slice(g);
-            wire.extend(encode(f));
-        }
-        wire.extend_from_slice(&garbage[5]);
+        let wire = wire_with_garbage(&frames, &garbage);
         let (got, _) = decode_stream(&wire, chunk);
         prop_assert_eq!(got, frames);
     }

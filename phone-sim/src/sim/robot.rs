@@ -182,7 +182,7 @@ impl SimFirmware {
     }
 
     /// Whether [`SimFirmware::poll_transmit`] would send nothing at `now`
-    /// (see [`LinkEnd::is_quiet`]).
+    /// (see [`Link::is_quiet`](core_algo::protocol::Link::is_quiet)).
     pub fn is_quiet(&self, now: u32) -> bool {
         self.quiet_for(now) > 0
     }
