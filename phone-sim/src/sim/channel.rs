@@ -34,9 +34,7 @@ impl ChannelFaults {
         latency_ms: 10,
         jitter_ms: 0,
     };
-}
 
-impl ChannelFaults {
     /// Whether the channel only delays: nothing is lost, repeated,
     /// corrupted or jittered.
     pub fn is_clean(&self) -> bool {
