@@ -445,9 +445,7 @@ impl Simulation {
             }
             let mut buf = [0u8; MAX_FRAME_LEN];
             if let (Some(f), Some(p)) = (self.firmware.get_mut(i), self.proxies.get_mut(i)) {
-                while !f.is_quiet(now)
-                    && let Some(n) = f.poll_transmit(now, &mut buf)
-                {
+                while let Some(n) = f.poll_transmit(now, &mut buf) {
                     p.up.send(now, buf.get(..n).unwrap_or(&[]));
                 }
                 let arrivals = (p.up.next_arrival(), p.down.next_arrival());
